@@ -1,0 +1,85 @@
+//! Geometry of a mesh: face areas, barycentric vertex masses, the cotangent Laplacian, and the
+//! small 3-vector helpers they use.
+
+use qsparse::{SparseMatrix, TripletMatrix};
+
+use crate::TriMesh;
+
+/// `a − b`.
+pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `a s`.
+pub fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+/// `a · b`.
+pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a × b`.
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `|a|`.
+pub fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// `a / |a|`.
+pub fn normalize(a: [f64; 3]) -> [f64; 3] {
+    scale(a, 1.0 / norm(a))
+}
+
+/// Face areas `A_t`.
+pub fn face_areas(mesh: &TriMesh) -> Vec<f64> {
+    (0..mesh.face_count()).map(|t| mesh.face_area(t)).collect()
+}
+
+/// Barycentric (lumped) vertex masses `Ā_p = Σ_{t∋p} A_t / 3` (math-spec §1).
+pub fn barycentric_masses(mesh: &TriMesh) -> Vec<f64> {
+    let mut mass = vec![0.0; mesh.vertex_count()];
+    for (t, face) in mesh.faces().iter().enumerate() {
+        let third = mesh.face_area(t) / 3.0;
+        for &p in face {
+            mass[p] += third;
+        }
+    }
+    mass
+}
+
+/// The positive-semidefinite cotangent Laplacian (math-spec §3.4):
+/// `L_ij = −(cot α_ij + cot β_ij)/2` for an edge `ij` with opposite angles `α_ij`, `β_ij`
+/// (one angle on a boundary edge: Neumann), and `L_ii = −Σ_{j≠i} L_ij`.
+/// The negative of libigl's and gptoolbox's `cotmatrix`.
+pub fn cotan_laplacian(mesh: &TriMesh) -> SparseMatrix<f64> {
+    let n = mesh.vertex_count();
+    let mut t = TripletMatrix::with_capacity(n, n, 12 * mesh.face_count());
+    let p = mesh.positions();
+    for face in mesh.faces() {
+        for corner in 0..3 {
+            // The angle at `k` is opposite the edge `ij`.
+            let (i, j, k) = (face[corner], face[(corner + 1) % 3], face[(corner + 2) % 3]);
+            let (e1, e2) = (sub(p[i], p[k]), sub(p[j], p[k]));
+            let half_cot = 0.5 * dot(e1, e2) / norm(cross(e1, e2));
+            for (r, c, v) in [
+                (i, j, -half_cot),
+                (j, i, -half_cot),
+                (i, i, half_cot),
+                (j, j, half_cot),
+            ] {
+                t.push(r, c, v)
+                    .expect("indices and values of a validated mesh are valid");
+            }
+        }
+    }
+    t.to_csc()
+}

@@ -1,0 +1,493 @@
+//! Native supernodal sparse Cholesky `A = Pᵀ L Lᴴ P` for Hermitian positive-definite matrices
+//! over any scalar with `f64` components (real, complex, quaternion).
+//!
+//! * **Symbolic phase** ([`SymbolicCholesky`]): fill-reducing AMD ordering, elimination tree and
+//!   relaxed supernodes come from faer's analysis of the `n`-node pattern (for quaternions this
+//!   is the `n`-node graph, not the `4n` real one). On top of it we precompute where each input
+//!   value lands in the factor and, for every supernode, the list of earlier supernodes that
+//!   update it. Depends only on the pattern; reusable across refactorisations.
+//! * **Numeric phase** ([`SparseCholesky`]): left-looking supernodal factorisation. Each
+//!   supernode gathers its input columns, subtracts the updates `L_d[tail] · L_d[cols]ᴴ` of its
+//!   descendants (dense `C = A Bᴴ`, see [`dense`]), then factors its dense block.
+//! * **Solves**: forward and backward substitution by supernodes, one or many right-hand sides.
+//!
+//! Only the lower triangle (`row ≥ col`) of the input is read; the matrix is taken to be
+//! Hermitian. `docs/CHOLESKY.md` describes the algorithm.
+
+mod dense;
+
+use std::sync::Arc;
+
+use faer::Side;
+use faer::sparse::SymbolicSparseColMatRef;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+};
+use qscalar::Scalar;
+
+use crate::{CholeskyError, SparseMatrix};
+use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
+
+/// Marks an input entry above the diagonal, which the factorisation does not read.
+const SKIPPED: usize = usize::MAX;
+
+/// One descendant update of a supernode: rows `start..` of the source supernode's off-diagonal
+/// pattern, the first `len` of which fall in the target supernode's columns.
+#[derive(Debug, Clone, Copy)]
+struct Update {
+    source: usize,
+    start: usize,
+    len: usize,
+}
+
+/// The pattern-only part of a sparse Cholesky factorisation (ordering, supernodes, scatter plan).
+#[derive(Debug, Clone)]
+pub struct SymbolicCholesky {
+    n: usize,
+    /// `perm[new] = old`: row/column `new` of `P A Pᵀ` is row/column `perm[new]` of `A`.
+    perm: Vec<usize>,
+    /// Supernode `s` holds the columns `supernode_begin[s]..supernode_begin[s + 1]`.
+    supernode_begin: Vec<usize>,
+    /// Off-diagonal row indices of supernode `s`: `pattern[pattern_ptr[s]..pattern_ptr[s + 1]]`.
+    pattern_ptr: Vec<usize>,
+    pattern: Vec<usize>,
+    /// Supernode `s` stores an `(w + pattern length) × w` column-major block at `value_ptr[s]`.
+    value_ptr: Vec<usize>,
+    /// Descendant updates of supernode `s`: `updates[update_ptr[s]..update_ptr[s + 1]]`.
+    update_ptr: Vec<usize>,
+    updates: Vec<Update>,
+    /// The analysed input pattern, to reject refactorisation with another pattern.
+    input_col_ptr: Vec<usize>,
+    input_row_idx: Vec<usize>,
+    /// For each input entry: its offset in the factor values (or `SKIPPED`), and whether it is
+    /// stored conjugated (it lands in the upper triangle of `P A Pᵀ` and is mirrored).
+    input_target: Vec<usize>,
+    input_conj: Vec<bool>,
+    /// Largest buffer a descendant update needs (entries).
+    max_update_len: usize,
+}
+
+/// Size and shape figures of a factorisation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CholeskyStats {
+    /// Dimension `n` (scalar unknowns).
+    pub n: usize,
+    /// Number of supernodes.
+    pub supernodes: usize,
+    /// Widest supernode (columns).
+    pub max_supernode_width: usize,
+    /// Scalar entries stored for `L` (including explicit zeros of relaxed supernodes).
+    pub factor_entries: usize,
+    /// Bytes of the stored factor values.
+    pub factor_bytes: usize,
+}
+
+impl SymbolicCholesky {
+    /// Analyses the pattern of `a` (square; only the lower triangle is read): AMD ordering,
+    /// supernodes, and the scatter plan for numeric factorisations of matrices with this pattern.
+    pub fn analyze<T: Scalar>(a: &SparseMatrix<T>) -> Result<Self, CholeskyError> {
+        let n = a.nrows();
+        if a.ncols() != n {
+            return Err(CholeskyError::NotSquare {
+                nrows: a.nrows(),
+                ncols: a.ncols(),
+            });
+        }
+        let (perm, perm_inv, supernode_begin, pattern_ptr, pattern) = if n == 0 {
+            (vec![], vec![], vec![0], vec![0], vec![])
+        } else {
+            faer_supernodes(a)?
+        };
+        let n_super = supernode_begin.len() - 1;
+        let mut supernode_of = vec![0usize; n];
+        let mut value_ptr = Vec::with_capacity(n_super + 1);
+        value_ptr.push(0);
+        for s in 0..n_super {
+            let (begin, end) = (supernode_begin[s], supernode_begin[s + 1]);
+            supernode_of[begin..end].fill(s);
+            let rows = end - begin + pattern_ptr[s + 1] - pattern_ptr[s];
+            value_ptr.push(value_ptr[s] + rows * (end - begin));
+        }
+
+        // Descendant lists: the pattern of d is sorted, so the rows falling in one target
+        // supernode form a contiguous run.
+        let mut per_target: Vec<Vec<Update>> = vec![Vec::new(); n_super];
+        let mut max_update_len = 0;
+        for d in 0..n_super {
+            let rows = &pattern[pattern_ptr[d]..pattern_ptr[d + 1]];
+            let mut start = 0;
+            while start < rows.len() {
+                let s = supernode_of[rows[start]];
+                let len = rows[start..]
+                    .iter()
+                    .take_while(|&&r| supernode_of[r] == s)
+                    .count();
+                per_target[s].push(Update {
+                    source: d,
+                    start,
+                    len,
+                });
+                max_update_len = max_update_len.max((rows.len() - start) * len);
+                start += len;
+            }
+        }
+        let mut update_ptr = Vec::with_capacity(n_super + 1);
+        update_ptr.push(0);
+        let mut updates = Vec::new();
+        for list in per_target {
+            updates.extend(list);
+            update_ptr.push(updates.len());
+        }
+
+        // Where each input entry (lower triangle) lands in the factor block of its supernode.
+        let mut input_target = vec![SKIPPED; a.nnz()];
+        let mut input_conj = vec![false; a.nnz()];
+        for j in 0..n {
+            for k in a.col_ptr[j]..a.col_ptr[j + 1] {
+                let i = a.row_idx[k];
+                if i < j {
+                    continue;
+                }
+                let (pi, pj) = (perm_inv[i], perm_inv[j]);
+                let (row, col, conj) = if pi >= pj {
+                    (pi, pj, false)
+                } else {
+                    (pj, pi, true)
+                };
+                let s = supernode_of[col];
+                let (begin, end) = (supernode_begin[s], supernode_begin[s + 1]);
+                let w = end - begin;
+                let local_row = if row < end {
+                    row - begin
+                } else {
+                    let rows = &pattern[pattern_ptr[s]..pattern_ptr[s + 1]];
+                    w + rows.binary_search(&row).map_err(|_| {
+                        CholeskyError::Symbolic("input entry outside the factor pattern".into())
+                    })?
+                };
+                let m = w + pattern_ptr[s + 1] - pattern_ptr[s];
+                input_target[k] = value_ptr[s] + (col - begin) * m + local_row;
+                input_conj[k] = conj;
+            }
+        }
+
+        Ok(Self {
+            n,
+            perm,
+            supernode_begin,
+            pattern_ptr,
+            pattern,
+            value_ptr,
+            update_ptr,
+            updates,
+            input_col_ptr: a.col_ptr.clone(),
+            input_row_idx: a.row_idx.clone(),
+            input_target,
+            input_conj,
+            max_update_len,
+        })
+    }
+
+    /// Dimension `n`.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The fill-reducing permutation, `perm()[new] = old`.
+    pub fn perm(&self) -> &[usize] {
+        &self.perm
+    }
+
+    /// Number of supernodes.
+    pub fn supernodes(&self) -> usize {
+        self.supernode_begin.len() - 1
+    }
+
+    /// Scalar entries stored for `L`.
+    pub fn factor_entries(&self) -> usize {
+        *self.value_ptr.last().unwrap_or(&0)
+    }
+
+    fn supernode(&self, s: usize) -> (usize, usize, &[usize]) {
+        let begin = self.supernode_begin[s];
+        let w = self.supernode_begin[s + 1] - begin;
+        (
+            begin,
+            w,
+            &self.pattern[self.pattern_ptr[s]..self.pattern_ptr[s + 1]],
+        )
+    }
+}
+
+/// Runs faer's AMD + supernodal symbolic analysis on the pattern of `a`; returns
+/// `(perm, perm_inv, supernode_begin, pattern_ptr, pattern)`.
+type Supernodes = (Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>);
+fn faer_supernodes<T: Scalar>(a: &SparseMatrix<T>) -> Result<Supernodes, CholeskyError> {
+    let n = a.nrows();
+    let symbolic_pattern = SymbolicSparseColMatRef::new_checked(n, n, &a.col_ptr, None, &a.row_idx);
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    let symbolic = factorize_symbolic_cholesky(
+        symbolic_pattern,
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        params,
+    )
+    .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
+    let (perm, perm_inv) = match symbolic.perm() {
+        Some(p) => {
+            let (fwd, inv) = p.arrays();
+            (fwd.to_vec(), inv.to_vec())
+        }
+        None => ((0..n).collect(), (0..n).collect()),
+    };
+    let mut supernode_begin = vec![0];
+    let mut pattern_ptr = vec![0];
+    let mut pattern = Vec::new();
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => {
+            for s in 0..sn.n_supernodes() {
+                supernode_begin.push(sn.supernode_end()[s]);
+                pattern.extend_from_slice(sn.supernode(s).pattern());
+                pattern_ptr.push(pattern.len());
+            }
+        }
+        // Not expected with FORCE_SUPERNODAL; treat each column as a width-1 supernode.
+        SymbolicCholeskyRaw::Simplicial(sp) => {
+            for j in 0..n {
+                supernode_begin.push(j + 1);
+                let rows = &sp.row_idx()[sp.col_ptr()[j]..sp.col_ptr()[j + 1]];
+                pattern.extend(rows.iter().copied().filter(|&r| r > j));
+                pattern_ptr.push(pattern.len());
+            }
+        }
+    }
+    Ok((perm, perm_inv, supernode_begin, pattern_ptr, pattern))
+}
+
+/// A numeric sparse Cholesky factorisation `A = Pᵀ L Lᴴ P` of a Hermitian positive-definite
+/// matrix, with `L` lower triangular with a real positive diagonal and `P` the fill-reducing
+/// permutation of the shared [`SymbolicCholesky`].
+///
+/// Writing `C = Pᵀ L`, `A = C Cᴴ`; [`SparseCholesky::solve_lower_in_place`] applies `C⁻¹` and
+/// [`SparseCholesky::solve_upper_in_place`] applies `C⁻ᴴ`, the two halves an eigensolver for the
+/// pencil `K x = μ A x` needs to work with the Hermitian operator `C⁻¹ K C⁻ᴴ`.
+#[derive(Debug, Clone)]
+pub struct SparseCholesky<T> {
+    symbolic: Arc<SymbolicCholesky>,
+    values: Vec<T>,
+}
+
+impl<T: Scalar<Real = f64>> SparseCholesky<T> {
+    /// Symbolic analysis and numeric factorisation of `a` in one call.
+    pub fn factorize(a: &SparseMatrix<T>) -> Result<Self, CholeskyError> {
+        Self::factorize_with_symbolic(Arc::new(SymbolicCholesky::analyze(a)?), a)
+    }
+
+    /// Numeric factorisation of `a` reusing a symbolic analysis of the same pattern.
+    pub fn factorize_with_symbolic(
+        symbolic: Arc<SymbolicCholesky>,
+        a: &SparseMatrix<T>,
+    ) -> Result<Self, CholeskyError> {
+        let mut this = Self {
+            values: vec![T::zero(); symbolic.factor_entries()],
+            symbolic,
+        };
+        this.refactorize(a)?;
+        Ok(this)
+    }
+
+    /// Recomputes the factor for new values of `a` with the analysed pattern, reusing storage.
+    pub fn refactorize(&mut self, a: &SparseMatrix<T>) -> Result<(), CholeskyError> {
+        let sym = &*self.symbolic;
+        if a.nrows() != sym.n
+            || a.ncols() != sym.n
+            || a.col_ptr != sym.input_col_ptr
+            || a.row_idx != sym.input_row_idx
+        {
+            return Err(CholeskyError::PatternMismatch);
+        }
+        let values = &mut self.values;
+        values.fill(T::zero());
+        for (k, &v) in a.values.iter().enumerate() {
+            let target = sym.input_target[k];
+            if target == SKIPPED {
+                continue;
+            }
+            if !v.is_finite() {
+                let col = a.col_ptr.partition_point(|&p| p <= k) - 1;
+                return Err(CholeskyError::NonFinite {
+                    row: a.row_idx[k],
+                    col,
+                });
+            }
+            values[target] += if sym.input_conj[k] { v.conj() } else { v };
+        }
+
+        let mut global_to_local = vec![0usize; sym.n];
+        let mut update = vec![T::zero(); sym.max_update_len];
+        let mut panel_update = Vec::new();
+        let mut work = GemmWorkspace::default();
+        for s in 0..sym.supernodes() {
+            let (begin, w, rows) = sym.supernode(s);
+            let m = w + rows.len();
+            for (r, &row) in rows.iter().enumerate() {
+                global_to_local[row] = w + r;
+            }
+            let (done, rest) = values.split_at_mut(sym.value_ptr[s]);
+            let target = &mut rest[..m * w];
+            for u in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+                let (_, wd, rows_d) = sym.supernode(u.source);
+                let md = wd + rows_d.len();
+                let source = &done[sym.value_ptr[u.source]..sym.value_ptr[u.source] + md * wd];
+                let tail = rows_d.len() - u.start;
+                let first = &source[wd + u.start..];
+                gemm_adjoint(
+                    &mut update,
+                    first,
+                    md,
+                    first,
+                    md,
+                    (tail, u.len, wd),
+                    &mut work,
+                );
+                for jj in 0..u.len {
+                    let col = rows_d[u.start + jj] - begin;
+                    // Rows above the diagonal (ii < jj) would land in the unused upper triangle.
+                    for ii in jj..tail {
+                        let row = rows_d[u.start + ii];
+                        let local = if row < begin + w {
+                            row - begin
+                        } else {
+                            global_to_local[row]
+                        };
+                        target[col * m + local] -= update[jj * tail + ii];
+                    }
+                }
+            }
+            factor_supernode(target, m, w, &mut work, &mut panel_update).map_err(
+                |(local, pivot)| CholeskyError::NotPositiveDefinite {
+                    index: sym.perm[begin + local],
+                    pivot,
+                },
+            )?;
+        }
+        Ok(())
+    }
+
+    /// The shared symbolic analysis.
+    pub fn symbolic(&self) -> &Arc<SymbolicCholesky> {
+        &self.symbolic
+    }
+
+    /// Size figures of the factor.
+    pub fn stats(&self) -> CholeskyStats {
+        let sym = &*self.symbolic;
+        CholeskyStats {
+            n: sym.n,
+            supernodes: sym.supernodes(),
+            max_supernode_width: sym
+                .supernode_begin
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .max()
+                .unwrap_or(0),
+            factor_entries: self.values.len(),
+            factor_bytes: self.values.len() * core::mem::size_of::<T>(),
+        }
+    }
+
+    fn check_rhs(&self, len: usize) -> Result<(), CholeskyError> {
+        if len != self.symbolic.n {
+            return Err(CholeskyError::RhsDimension {
+                expected: self.symbolic.n,
+                found: len,
+            });
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place (`rhs` holds `b` on entry, `x` on exit).
+    pub fn solve_in_place(&self, rhs: &mut [T]) -> Result<(), CholeskyError> {
+        self.solve_lower_in_place(rhs)?;
+        self.solve_upper_in_place(rhs)
+    }
+
+    /// Solves `A X = B` for `ncols` right-hand sides stored column-major in `rhs`.
+    pub fn solve_many_in_place(&self, rhs: &mut [T], ncols: usize) -> Result<(), CholeskyError> {
+        let n = self.symbolic.n;
+        if rhs.len() != n * ncols {
+            return Err(CholeskyError::RhsDimension {
+                expected: n * ncols,
+                found: rhs.len(),
+            });
+        }
+        if n == 0 {
+            return Ok(());
+        }
+        rhs.chunks_exact_mut(n)
+            .try_for_each(|column| self.solve_in_place(column))
+    }
+
+    /// Returns `x` with `A x = b`.
+    pub fn solve(&self, b: &[T]) -> Result<Vec<T>, CholeskyError> {
+        let mut x = b.to_vec();
+        self.solve_in_place(&mut x)?;
+        Ok(x)
+    }
+
+    /// Applies `C⁻¹ = L⁻¹ P` in place, where `A = C Cᴴ` and `C = Pᵀ L`.
+    pub fn solve_lower_in_place(&self, x: &mut [T]) -> Result<(), CholeskyError> {
+        self.check_rhs(x.len())?;
+        let sym = &*self.symbolic;
+        let mut y: Vec<T> = sym.perm.iter().map(|&old| x[old]).collect();
+        for s in 0..sym.supernodes() {
+            let (begin, w, rows) = sym.supernode(s);
+            let m = w + rows.len();
+            let block = &self.values[sym.value_ptr[s]..sym.value_ptr[s] + m * w];
+            for j in 0..w {
+                let column = &block[j * m..(j + 1) * m];
+                let yj = y[begin + j].scale(1.0 / column[j].re());
+                y[begin + j] = yj;
+                for i in j + 1..w {
+                    y[begin + i] -= column[i] * yj;
+                }
+                for (r, &row) in rows.iter().enumerate() {
+                    y[row] -= column[w + r] * yj;
+                }
+            }
+        }
+        x.copy_from_slice(&y);
+        Ok(())
+    }
+
+    /// Applies `C⁻ᴴ = Pᵀ L⁻ᴴ` in place, where `A = C Cᴴ` and `C = Pᵀ L`.
+    pub fn solve_upper_in_place(&self, x: &mut [T]) -> Result<(), CholeskyError> {
+        self.check_rhs(x.len())?;
+        let sym = &*self.symbolic;
+        let mut y = x.to_vec();
+        for s in (0..sym.supernodes()).rev() {
+            let (begin, w, rows) = sym.supernode(s);
+            let m = w + rows.len();
+            let block = &self.values[sym.value_ptr[s]..sym.value_ptr[s] + m * w];
+            for j in (0..w).rev() {
+                let column = &block[j * m..(j + 1) * m];
+                let mut acc = y[begin + j];
+                for (r, &row) in rows.iter().enumerate() {
+                    acc -= column[w + r].conj() * y[row];
+                }
+                for i in j + 1..w {
+                    acc -= column[i].conj() * y[begin + i];
+                }
+                y[begin + j] = acc.scale(1.0 / column[j].re());
+            }
+        }
+        for (new, &old) in sym.perm.iter().enumerate() {
+            x[old] = y[new];
+        }
+        Ok(())
+    }
+}

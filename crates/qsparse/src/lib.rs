@@ -1,0 +1,23 @@
+//! # qsparse
+//!
+//! Sparse matrices generic over [`qscalar::Scalar`] (real, complex, quaternion), with
+//! triplet assembly, CSC storage, products, the real-block and complex-adjoint embeddings into
+//! faer matrices, and a native supernodal sparse Cholesky `A = Pᵀ L Lᴴ P`.
+//!
+//! Conventions (DESIGN.md §2): matrices act by left multiplication, `(A x)ᵢ = Σⱼ Aᵢⱼ xⱼ`;
+//! the adjoint is the conjugate transpose, `(Aᴴ)ᵢⱼ = conj(Aⱼᵢ)`; vectors are plain slices.
+
+mod cholesky;
+mod csc;
+mod dense;
+pub mod embedding;
+mod error;
+mod ops;
+mod triplet;
+pub mod vector;
+
+pub use cholesky::{CholeskyStats, SparseCholesky, SymbolicCholesky};
+pub use csc::SparseMatrix;
+pub use dense::DenseMatrix;
+pub use error::{CholeskyError, SparseError};
+pub use triplet::TripletMatrix;
