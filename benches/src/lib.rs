@@ -1,6 +1,11 @@
 //! Shared problem generators and measurement helpers for the criterion benchmarks and the
 //! `compare` harness.
 
+pub mod eigs;
+pub mod linear;
+
+use std::time::Instant;
+
 use dirac::generators::icosphere;
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use qscalar::Quat;
@@ -56,4 +61,18 @@ pub fn median(samples: &mut [f64]) -> f64 {
     } else {
         0.5 * (samples[n / 2 - 1] + samples[n / 2])
     }
+}
+
+/// Runs `f` once to warm up, then `repeats` times (at least once), and returns the median
+/// wall-clock seconds.
+pub fn time_median(repeats: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut samples: Vec<f64> = (0..repeats.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            f();
+            start.elapsed().as_secs_f64()
+        })
+        .collect();
+    median(&mut samples)
 }

@@ -44,6 +44,32 @@ pub fn face_areas(mesh: &TriMesh) -> Vec<f64> {
     (0..mesh.face_count()).map(|t| mesh.face_area(t)).collect()
 }
 
+/// Area-weighted vertex normals (math-spec §1): `N_p = normalize(Σ_{t∋p} 2A_t n_t)`, where
+/// `2A_t n_t = (f_j − f_i) × (f_k − f_i)` for face `t = ijk`. Returns the first vertex whose
+/// summed normal vanishes as `Err(vertex)` (possible only on degenerate configurations).
+pub fn vertex_normals(mesh: &TriMesh) -> Result<Vec<[f64; 3]>, usize> {
+    let p = mesh.positions();
+    let mut sum = vec![[0.0; 3]; mesh.vertex_count()];
+    for &[i, j, k] in mesh.faces() {
+        let area_normal = cross(sub(p[j], p[i]), sub(p[k], p[i]));
+        for v in [i, j, k] {
+            for c in 0..3 {
+                sum[v][c] += area_normal[c];
+            }
+        }
+    }
+    sum.into_iter()
+        .enumerate()
+        .map(|(v, n)| {
+            if norm(n) > 0.0 {
+                Ok(normalize(n))
+            } else {
+                Err(v)
+            }
+        })
+        .collect()
+}
+
 /// Barycentric (lumped) vertex masses `Ā_p = Σ_{t∋p} A_t / 3` (math-spec §1).
 pub fn barycentric_masses(mesh: &TriMesh) -> Vec<f64> {
     let mut mass = vec![0.0; mesh.vertex_count()];

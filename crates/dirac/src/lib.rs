@@ -5,8 +5,17 @@
 //! generator, and the real operators every spectrum needs: face areas, barycentric vertex
 //! masses and the positive-semidefinite cotangent Laplacian.
 
+mod disjoint_sets;
 pub mod generators;
 pub mod geometry;
+pub mod io;
 mod mesh;
+pub mod operators;
+pub mod phase;
+pub mod spectrum;
+mod topology;
+pub mod well;
 
-pub use mesh::{MeshError, TriMesh};
+pub use io::default_mesh;
+pub use mesh::{Edge, MeshError, TriMesh};
+pub use topology::{Component, Topology};

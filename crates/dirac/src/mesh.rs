@@ -1,8 +1,17 @@
 //! Validated triangle meshes.
+//!
+//! [`TriMesh::new`] accepts exactly the consistently oriented, edge- and vertex-manifold
+//! triangle meshes without degenerate faces (DESIGN.md §4). Boundaries and several connected
+//! components are allowed; [`TriMesh::topology`] reports them.
 
+use qscalar::Quat;
 use thiserror::Error;
 
-/// Why a mesh was rejected. Each variant names the offending element.
+use crate::disjoint_sets::DisjointSets;
+use crate::geometry::{cross, norm, scale, sub};
+
+/// Why a mesh was rejected. Each variant names the offending element; vertex and face indices
+/// refer to the arrays given to the constructor.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum MeshError {
@@ -32,64 +41,273 @@ pub enum MeshError {
         /// The repeated vertex.
         vertex: usize,
     },
+    /// No face uses this vertex ([`TriMesh::with_unreferenced_removed`] drops such vertices).
+    #[error("vertex {vertex} is not used by any face")]
+    UnreferencedVertex {
+        /// The first unreferenced vertex.
+        vertex: usize,
+    },
     /// A vertex coordinate is NaN or infinite.
     #[error("vertex {vertex} has a non-finite coordinate")]
     NonFiniteCoordinate {
         /// The vertex.
         vertex: usize,
     },
-    /// A face has zero area.
-    #[error("face {face} has zero area")]
+    /// A face has zero area (or an area that overflows to infinity).
+    #[error("face {face} has zero or non-finite area")]
     ZeroAreaFace {
         /// The face.
         face: usize,
     },
+    /// More than two faces share an edge.
+    #[error("edge {edge:?} is shared by {} faces {faces:?}", faces.len())]
+    NonManifoldEdge {
+        /// The edge's vertices, smaller index first.
+        edge: [usize; 2],
+        /// All faces containing the edge.
+        faces: Vec<usize>,
+    },
+    /// Two faces traverse their shared edge in the same direction.
+    #[error("faces {faces:?} both traverse edge {edge:?} in the same direction")]
+    InconsistentOrientation {
+        /// The edge, in the direction both faces traverse it.
+        edge: [usize; 2],
+        /// The two faces.
+        faces: [usize; 2],
+    },
+    /// The faces around a vertex form more than one fan (the surface is pinched there).
+    #[error("the faces around vertex {vertex} form {fans} separate fans")]
+    NonManifoldVertex {
+        /// The vertex.
+        vertex: usize,
+        /// Number of fans (edge-connected groups of incident faces).
+        fans: usize,
+    },
 }
 
 /// A triangle mesh: vertex positions and counter-clockwise faces (as seen from the side the
-/// normals point to).
+/// normals point to). Always valid: see [`TriMesh::new`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriMesh {
     positions: Vec<[f64; 3]>,
     faces: Vec<[usize; 3]>,
 }
 
-impl TriMesh {
-    /// Builds and validates a mesh: non-empty, indices in range and distinct within each face,
-    /// finite coordinates, faces of non-zero area.
-    pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[usize; 3]>) -> Result<Self, MeshError> {
-        if positions.is_empty() || faces.is_empty() {
-            return Err(MeshError::Empty {
-                vertices: positions.len(),
-                faces: faces.len(),
+/// An undirected edge of a mesh, oriented as its first face traverses it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Edge {
+    /// Tail and head, in the direction `face` traverses the edge.
+    pub vertices: [usize; 2],
+    /// The face traversing `vertices[0] → vertices[1]`.
+    pub face: usize,
+    /// The face traversing `vertices[1] → vertices[0]`; `None` on a boundary edge.
+    pub opposite_face: Option<usize>,
+}
+
+/// One face's use of an undirected edge, used to sort and group the edges of a face list.
+#[derive(Debug, Clone, Copy)]
+struct EdgeUse {
+    /// Smaller vertex.
+    lo: usize,
+    /// Larger vertex.
+    hi: usize,
+    /// The face.
+    face: usize,
+    /// Whether the face traverses the edge `lo → hi`.
+    forward: bool,
+    /// The face's corners (`3 face + local index`) at `lo` and at `hi`.
+    corners: [usize; 2],
+}
+
+/// The uses of every edge of `faces`, sorted by edge and then face, so each edge's uses are
+/// contiguous (group them with `chunk_by(same_edge)`).
+fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
+    let mut uses: Vec<EdgeUse> = faces
+        .iter()
+        .enumerate()
+        .flat_map(|(face, f)| {
+            (0..3).map(move |c| {
+                let (a, b) = (f[c], f[(c + 1) % 3]);
+                let (ca, cb) = (3 * face + c, 3 * face + (c + 1) % 3);
+                EdgeUse {
+                    lo: a.min(b),
+                    hi: a.max(b),
+                    face,
+                    forward: a < b,
+                    corners: if a < b { [ca, cb] } else { [cb, ca] },
+                }
+            })
+        })
+        .collect();
+    uses.sort_unstable_by_key(|u| (u.lo, u.hi, u.face));
+    uses
+}
+
+fn same_edge(a: &EdgeUse, b: &EdgeUse) -> bool {
+    (a.lo, a.hi) == (b.lo, b.hi)
+}
+
+impl EdgeUse {
+    /// The edge in the direction this face traverses it.
+    fn directed(&self) -> [usize; 2] {
+        if self.forward {
+            [self.lo, self.hi]
+        } else {
+            [self.hi, self.lo]
+        }
+    }
+}
+
+/// `|(b − a) × (c − a)| / 2`.
+fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    norm(cross(sub(b, a), sub(c, a))) / 2.0
+}
+
+/// Non-empty, indices in range and distinct within each face.
+fn check_indices(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshError> {
+    if vertex_count == 0 || faces.is_empty() {
+        return Err(MeshError::Empty {
+            vertices: vertex_count,
+            faces: faces.len(),
+        });
+    }
+    for (face, f) in faces.iter().enumerate() {
+        if let Some(&vertex) = f.iter().find(|&&v| v >= vertex_count) {
+            return Err(MeshError::IndexOutOfRange {
+                face,
+                vertex,
+                vertex_count,
             });
         }
-        if let Some(vertex) = positions
-            .iter()
-            .position(|p| p.iter().any(|c| !c.is_finite()))
-        {
-            return Err(MeshError::NonFiniteCoordinate { vertex });
+        if f[0] == f[1] || f[0] == f[2] {
+            return Err(MeshError::RepeatedIndex { face, vertex: f[0] });
         }
-        for (face, f) in faces.iter().enumerate() {
-            if let Some(&vertex) = f.iter().find(|&&v| v >= positions.len()) {
-                return Err(MeshError::IndexOutOfRange {
-                    face,
-                    vertex,
-                    vertex_count: positions.len(),
-                });
-            }
-            if f[0] == f[1] || f[0] == f[2] {
-                return Err(MeshError::RepeatedIndex { face, vertex: f[0] });
-            }
-            if f[1] == f[2] {
-                return Err(MeshError::RepeatedIndex { face, vertex: f[1] });
-            }
+        if f[1] == f[2] {
+            return Err(MeshError::RepeatedIndex { face, vertex: f[1] });
         }
-        let mesh = Self { positions, faces };
-        if let Some(face) = (0..mesh.faces.len()).find(|&t| mesh.face_area(t) <= 0.0) {
+    }
+    Ok(())
+}
+
+/// Which vertices some face uses.
+fn referenced(vertex_count: usize, faces: &[[usize; 3]]) -> Vec<bool> {
+    let mut used = vec![false; vertex_count];
+    for &v in faces.iter().flatten() {
+        used[v] = true;
+    }
+    used
+}
+
+/// Finite coordinates on the vertices faces use, and faces of positive finite area.
+fn check_geometry(positions: &[[f64; 3]], faces: &[[usize; 3]]) -> Result<(), MeshError> {
+    if let Some(&vertex) = faces
+        .iter()
+        .flatten()
+        .find(|&&v| positions[v].iter().any(|c| !c.is_finite()))
+    {
+        return Err(MeshError::NonFiniteCoordinate { vertex });
+    }
+    for (face, &[i, j, k]) in faces.iter().enumerate() {
+        let area = triangle_area(positions[i], positions[j], positions[k]);
+        if !(area > 0.0 && area.is_finite()) {
             return Err(MeshError::ZeroAreaFace { face });
         }
-        Ok(mesh)
+    }
+    Ok(())
+}
+
+/// Edge-manifold, consistently oriented and vertex-manifold. Expects valid indices.
+fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
+    // Corners around one vertex are joined when their faces share an edge at it; each
+    // resulting class is one fan.
+    let mut fans = DisjointSets::new(3 * faces.len());
+    for group in edge_uses(faces).chunk_by(same_edge) {
+        match *group {
+            [_] => {}
+            [a, b] if a.forward == b.forward => {
+                return Err(MeshError::InconsistentOrientation {
+                    edge: a.directed(),
+                    faces: [a.face, b.face],
+                });
+            }
+            [a, b] => {
+                fans.union(a.corners[0], b.corners[0]);
+                fans.union(a.corners[1], b.corners[1]);
+            }
+            _ => {
+                return Err(MeshError::NonManifoldEdge {
+                    edge: [group[0].lo, group[0].hi],
+                    faces: group.iter().map(|u| u.face).collect(),
+                });
+            }
+        }
+    }
+    let mut vertex_fans: Vec<(usize, usize)> = (0..3 * faces.len())
+        .map(|c| (faces[c / 3][c % 3], fans.find(c)))
+        .collect();
+    vertex_fans.sort_unstable();
+    vertex_fans.dedup();
+    if let Some(group) = vertex_fans
+        .chunk_by(|a, b| a.0 == b.0)
+        .find(|g| g.len() > 1)
+    {
+        return Err(MeshError::NonManifoldVertex {
+            vertex: group[0].0,
+            fans: group.len(),
+        });
+    }
+    Ok(())
+}
+
+impl TriMesh {
+    /// Builds and validates a mesh (DESIGN.md §4). Checked in this order, the first failure
+    /// is returned: non-empty; every index in range and distinct within its face; every vertex
+    /// used by a face; finite coordinates; every face of positive area; at most two faces per
+    /// edge; neighbouring faces traversing their shared edge in opposite directions; the faces
+    /// around each vertex forming a single fan. Boundaries and several components are allowed.
+    pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[usize; 3]>) -> Result<Self, MeshError> {
+        check_indices(positions.len(), &faces)?;
+        if let Some(vertex) = referenced(positions.len(), &faces)
+            .iter()
+            .position(|&used| !used)
+        {
+            return Err(MeshError::UnreferencedVertex { vertex });
+        }
+        check_geometry(&positions, &faces)?;
+        check_manifold(&faces)?;
+        Ok(Self { positions, faces })
+    }
+
+    /// Like [`TriMesh::new`], but vertices no face uses are dropped instead of rejected (their
+    /// coordinates are not checked). Returns the mesh and the renumbering: `old_to_new[i]` is
+    /// the new index of input vertex `i`, or `None` if it was removed. Errors name input
+    /// indices.
+    pub fn with_unreferenced_removed(
+        positions: Vec<[f64; 3]>,
+        faces: Vec<[usize; 3]>,
+    ) -> Result<(Self, Vec<Option<usize>>), MeshError> {
+        check_indices(positions.len(), &faces)?;
+        check_geometry(&positions, &faces)?;
+        check_manifold(&faces)?;
+        let used = referenced(positions.len(), &faces);
+        let mut new_index = vec![0; positions.len()];
+        let mut old_to_new = vec![None; positions.len()];
+        let mut kept = Vec::new();
+        for (old, p) in positions.into_iter().enumerate() {
+            if used[old] {
+                new_index[old] = kept.len();
+                old_to_new[old] = Some(kept.len());
+                kept.push(p);
+            }
+        }
+        let faces = faces.iter().map(|f| f.map(|v| new_index[v])).collect();
+        Ok((
+            Self {
+                positions: kept,
+                faces,
+            },
+            old_to_new,
+        ))
     }
 
     /// Vertex positions.
@@ -115,10 +333,64 @@ impl TriMesh {
     /// Area of face `t`, `|(f_j − f_i) × (f_k − f_i)| / 2`.
     pub fn face_area(&self, t: usize) -> f64 {
         let [i, j, k] = self.faces[t];
-        let (a, b, c) = (self.positions[i], self.positions[j], self.positions[k]);
-        crate::geometry::norm(crate::geometry::cross(
-            crate::geometry::sub(b, a),
-            crate::geometry::sub(c, a),
-        )) / 2.0
+        triangle_area(self.positions[i], self.positions[j], self.positions[k])
+    }
+
+    /// Every edge once, sorted by (smaller vertex, larger vertex).
+    pub fn edges(&self) -> Vec<Edge> {
+        edge_uses(&self.faces)
+            .chunk_by(same_edge)
+            .map(|group| Edge {
+                vertices: group[0].directed(),
+                face: group[0].face,
+                opposite_face: group.get(1).map(|u| u.face),
+            })
+            .collect()
+    }
+
+    /// The boundary edges, each directed as its only face traverses it (so the surface lies to
+    /// the left, seen from the side the normals point to), in the order of [`TriMesh::edges`].
+    pub fn boundary_edges(&self) -> Vec<[usize; 2]> {
+        self.edges()
+            .into_iter()
+            .filter(|e| e.opposite_face.is_none())
+            .map(|e| e.vertices)
+            .collect()
+    }
+
+    /// The same surface with every face's orientation reversed (`[i, j, k] → [i, k, j]`).
+    pub fn reverse_orientation(&self) -> Self {
+        Self {
+            positions: self.positions.clone(),
+            faces: self.faces.iter().map(|&[i, j, k]| [i, k, j]).collect(),
+        }
+    }
+
+    /// The same connectivity with every position mapped by `f`. Fails if a coordinate becomes
+    /// non-finite or a face loses its area.
+    pub fn map_positions(&self, f: impl FnMut([f64; 3]) -> [f64; 3]) -> Result<Self, MeshError> {
+        let positions: Vec<[f64; 3]> = self.positions.iter().copied().map(f).collect();
+        check_geometry(&positions, &self.faces)?;
+        Ok(Self {
+            positions,
+            faces: self.faces.clone(),
+        })
+    }
+
+    /// The mesh moved by `t`.
+    pub fn translated(&self, t: [f64; 3]) -> Result<Self, MeshError> {
+        self.map_positions(|p| [p[0] + t[0], p[1] + t[1], p[2] + t[2]])
+    }
+
+    /// The mesh scaled by `s` about the origin (a negative `s` also mirrors it, which turns the
+    /// faces inside out).
+    pub fn scaled(&self, s: f64) -> Result<Self, MeshError> {
+        self.map_positions(|p| scale(p, s))
+    }
+
+    /// The mesh rotated about the origin by the unit quaternion `r`: `p ↦ r p r̄`
+    /// ([`Quat::rotate_vector`]; a non-unit `r` also scales by `|r|²`).
+    pub fn rotated(&self, r: Quat<f64>) -> Result<Self, MeshError> {
+        self.map_positions(|p| r.rotate_vector(p))
     }
 }

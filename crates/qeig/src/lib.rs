@@ -1,1 +1,47 @@
-pub fn placeholder() {}
+//! # qeig
+//!
+//! Hermitian eigensolvers generic over [`qscalar::Scalar`] (`f64`, `Complex<f64>`,
+//! `Quat<f64>`), one implementation for all three:
+//!
+//! * [`Pencil`]: the `k` extreme eigenpairs of a Hermitian-definite pencil `K x = μ S x`
+//!   (`S` Hermitian positive definite) — largest `|μ|` (both ends at once), largest or smallest
+//!   — by a thick-restart Lanczos ([`lanczos`]) on `C⁻¹ K C⁻ᴴ` with `S = C Cᴴ`, behind three
+//!   [`Backend`]s: [`Native`] (the matrices as given, native Cholesky), [`RealBlock`] (4n×4n
+//!   real embedding, faer's Cholesky) and [`ComplexAdjoint`] (2n×2n complex adjoint, faer's
+//!   Cholesky), which all return one pair per quaternionic eigenvalue with its multiplicity;
+//! * [`hermitian_eigs`]: the same iteration on any [`HermitianOperator`];
+//! * [`dense`]: all eigenpairs of small dense Hermitian matrices and pencils.
+//!
+//! Conventions (DESIGN.md §2): vectors are a right module, `⟨x, y⟩ = Σ conj(xᵢ) yᵢ`,
+//! eigen-equations read `A x = x λ` with real `λ` (for a pencil, `K x = μ S x`), Gram–Schmidt
+//! coefficients multiply on the right. Pencil eigenvectors are `S`-orthonormal.
+//!
+//! **Multiplicities.** A single Krylov sequence contains one direction per eigenspace. The
+//! iteration runs in *rounds*: each round is a thick-restart Lanczos run from a fresh seeded
+//! random vector, `S`-orthogonal to the deflation space and to every pair locked so far; a
+//! round ends once `k` pairs are locked and the remaining extreme Ritz values are known to lie
+//! outside the window, and the run ends after a round that found nothing better than the
+//! current `k`-th pair. An eigenvalue of multiplicity `m` is thus found `m` times after at
+//! most `m + 1` rounds (see [`lanczos`]).
+//!
+//! **Non-convergence** returns [`EigError::NotConverged`] with the pairs that did converge and
+//! the [`Statistics`].
+//!
+//! Parallelism: every faer call runs with `Par::Seq`.
+
+mod backend;
+mod basis;
+pub mod dense;
+mod error;
+pub mod lanczos;
+mod pencil;
+mod result;
+
+pub use backend::{
+    Backend, ComplexAdjoint, ComplexAdjointOperator, Factor, FactoredPencil, FaerCholesky, MatVec,
+    Native, NativeOperator, PencilOperator, RealBlock, RealBlockOperator,
+};
+pub use error::EigError;
+pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
+pub use pencil::Pencil;
+pub use result::{Eigen, Progress, Statistics};

@@ -19,6 +19,7 @@
 
 pub mod blocks;
 mod quat;
+pub mod random;
 mod scalar;
 #[cfg(feature = "proptest-support")]
 pub mod strategies;

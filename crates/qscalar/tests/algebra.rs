@@ -55,7 +55,7 @@ fn hamilton_rules() {
 #[test]
 fn noncommutativity_witness() {
     assert_ne!(Q::i() * Q::j(), Q::j() * Q::i());
-    assert!(!<Q as Scalar>::IS_COMMUTATIVE);
+    const { assert!(!<Q as Scalar>::IS_COMMUTATIVE) };
 }
 
 #[test]

@@ -32,9 +32,9 @@ impl<T: Scalar> SparseMatrix<T> {
         row_idx: Vec<usize>,
         values: Vec<T>,
     ) -> Result<Self, SparseError> {
-        if col_ptr.len() != ncols + 1 {
+        if col_ptr.len().checked_sub(1) != Some(ncols) {
             return Err(SparseError::DimensionMismatch {
-                expected: ncols + 1,
+                expected: ncols.saturating_add(1),
                 found: col_ptr.len(),
                 context: "col_ptr length",
             });
@@ -44,12 +44,13 @@ impl<T: Scalar> SparseMatrix<T> {
                 "col_ptr must start at 0 and end at nnz = row_idx.len() = values.len()",
             ));
         }
+        // Checked for the whole array first: with the end at nnz, it bounds every column range.
+        if col_ptr.windows(2).any(|w| w[0] > w[1]) {
+            return Err(SparseError::InvalidStorage(
+                "col_ptr must be non-decreasing",
+            ));
+        }
         for j in 0..ncols {
-            if col_ptr[j] > col_ptr[j + 1] {
-                return Err(SparseError::InvalidStorage(
-                    "col_ptr must be non-decreasing",
-                ));
-            }
             let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
             for (k, &r) in rows.iter().enumerate() {
                 if r >= nrows {

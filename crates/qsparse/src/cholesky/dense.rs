@@ -20,6 +20,8 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use qscalar::Scalar;
 
+use crate::vector::axpy;
+
 /// Below this many scalar multiply-adds the direct loop beats packing plus a real GEMM.
 const PACKED_GEMM_THRESHOLD: usize = 4096;
 
@@ -52,10 +54,7 @@ pub(crate) fn gemm_adjoint<T: Scalar<Real = f64>>(
         for l in 0..k {
             let a_col = &a[l * lda..l * lda + m];
             for j in 0..n {
-                let b_conj = b[l * ldb + j].conj();
-                for (c_ij, &a_il) in c[j * m..(j + 1) * m].iter_mut().zip(a_col) {
-                    *c_ij += a_il * b_conj;
-                }
+                axpy(&mut c[j * m..(j + 1) * m], a_col, b[l * ldb + j].conj());
             }
         }
         return;
@@ -146,12 +145,9 @@ pub(crate) fn factor_supernode<T: Scalar<Real = f64>>(
         let b = PANEL.min(w - p);
         for j in p..p + b {
             for kk in p..j {
-                let l_jk = l[kk * m + j].conj();
+                let minus_l_jk = -l[kk * m + j].conj();
                 let (left, right) = l.split_at_mut(j * m);
-                let src = &left[kk * m + j..kk * m + m];
-                for (dst, &s) in right[j..m].iter_mut().zip(src) {
-                    *dst -= s * l_jk;
-                }
+                axpy(&mut right[j..m], &left[kk * m + j..kk * m + m], minus_l_jk);
             }
             let pivot = l[j * m + j].re();
             if !(pivot > 0.0 && pivot.is_finite()) {

@@ -26,6 +26,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use qscalar::Scalar;
 
+use crate::vector::{axpy, inner};
 use crate::{CholeskyError, SparseMatrix};
 use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
 
@@ -444,20 +445,27 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         self.check_rhs(x.len())?;
         let sym = &*self.symbolic;
         let mut y: Vec<T> = sym.perm.iter().map(|&old| x[old]).collect();
+        let mut below = Vec::new();
         for s in 0..sym.supernodes() {
             let (begin, w, rows) = sym.supernode(s);
             let m = w + rows.len();
             let block = &self.values[sym.value_ptr[s]..sym.value_ptr[s] + m * w];
+            // Diagonal block: y_s ← L₁₁⁻¹ y_s, column by column.
             for j in 0..w {
                 let column = &block[j * m..(j + 1) * m];
                 let yj = y[begin + j].scale(1.0 / column[j].re());
                 y[begin + j] = yj;
-                for i in j + 1..w {
-                    y[begin + i] -= column[i] * yj;
-                }
-                for (r, &row) in rows.iter().enumerate() {
-                    y[row] -= column[w + r] * yj;
-                }
+                axpy(&mut y[begin + j + 1..begin + w], &column[j + 1..w], -yj);
+            }
+            // Rows below: y[rows] −= L₂₁ y_s, as a dense product into a contiguous buffer
+            // followed by one scatter.
+            below.clear();
+            below.resize(rows.len(), T::zero());
+            for j in 0..w {
+                axpy(&mut below, &block[j * m + w..(j + 1) * m], y[begin + j]);
+            }
+            for (&row, &v) in rows.iter().zip(&below) {
+                y[row] -= v;
             }
         }
         x.copy_from_slice(&y);
@@ -469,20 +477,19 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         self.check_rhs(x.len())?;
         let sym = &*self.symbolic;
         let mut y = x.to_vec();
+        let mut below = Vec::new();
         for s in (0..sym.supernodes()).rev() {
             let (begin, w, rows) = sym.supernode(s);
             let m = w + rows.len();
             let block = &self.values[sym.value_ptr[s]..sym.value_ptr[s] + m * w];
+            // y_s ← y_s − L₂₁ᴴ y[rows] (gathered once), then y_s ← L₁₁⁻ᴴ y_s.
+            below.clear();
+            below.extend(rows.iter().map(|&row| y[row]));
             for j in (0..w).rev() {
                 let column = &block[j * m..(j + 1) * m];
-                let mut acc = y[begin + j];
-                for (r, &row) in rows.iter().enumerate() {
-                    acc -= column[w + r].conj() * y[row];
-                }
-                for i in j + 1..w {
-                    acc -= column[i].conj() * y[begin + i];
-                }
-                y[begin + j] = acc.scale(1.0 / column[j].re());
+                let correction = inner(&column[w..], &below)
+                    + inner(&column[j + 1..w], &y[begin + j + 1..begin + w]);
+                y[begin + j] = (y[begin + j] - correction).scale(1.0 / column[j].re());
             }
         }
         for (new, &old) in sym.perm.iter().enumerate() {

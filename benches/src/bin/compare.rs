@@ -1,0 +1,96 @@
+//! `compare`: times the quaternion-native path against the real-block (faer, 4n×4n) and
+//! complex-adjoint (faer, 2n×2n) paths in one run, on the same matrix, and prints one JSON
+//! object.
+//!
+//! ```text
+//! compare spmv|cholesky [--level L | --size N] [--repeats R]
+//! compare eigs [--level L] [-k K] [--repeats R]
+//! ```
+//!
+//! `spmv` and `cholesky` use `dirac_bench::connection_laplacian` on the unit icosphere:
+//! `--level L` gives `10·4^L + 2` quaternion unknowns, `--size N` picks the smallest level with
+//! at least `N`. `eigs` computes `K` quaternionic pairs of the quaternionic Laplacian pencil on
+//! the icosphere with every backend (`dirac_bench::eigs`).
+//! Defaults: `cholesky --level 4 --repeats 5` (2,562 unknowns, a few seconds), `-k 60`.
+
+use std::process::ExitCode;
+
+use dirac_bench::eigs::compare_eigs;
+use dirac_bench::linear::{compare_cholesky, compare_spmv};
+use dirac_bench::{connection_laplacian, icosphere_level_for};
+
+const USAGE: &str =
+    "usage: compare [spmv|cholesky|eigs] [--level L | --size N] [-k K] [--repeats R]";
+
+struct Options {
+    case: String,
+    level: u32,
+    k: usize,
+    repeats: usize,
+}
+
+fn parse(args: &[String]) -> Result<Options, String> {
+    let mut options = Options {
+        case: "cholesky".into(),
+        level: 4,
+        k: 60,
+        repeats: 5,
+    };
+    let mut i = 0;
+    while i < args.len() {
+        let value = |i: usize| args.get(i + 1).ok_or(format!("{} needs a value", args[i]));
+        match args[i].as_str() {
+            "--level" => {
+                options.level = value(i)?.parse().map_err(|e| format!("--level: {e}"))?;
+                i += 1;
+            }
+            "--size" => {
+                let size: usize = value(i)?.parse().map_err(|e| format!("--size: {e}"))?;
+                options.level = icosphere_level_for(size);
+                i += 1;
+            }
+            "-k" => {
+                options.k = value(i)?.parse().map_err(|e| format!("-k: {e}"))?;
+                i += 1;
+            }
+            "--repeats" => {
+                options.repeats = value(i)?.parse().map_err(|e| format!("--repeats: {e}"))?;
+                i += 1;
+            }
+            "-h" | "--help" => return Err(USAGE.into()),
+            case if !case.starts_with('-') => options.case = case.into(),
+            other => return Err(format!("unknown option {other}\n{USAGE}")),
+        }
+        i += 1;
+    }
+    if options.level > 8 {
+        return Err(format!(
+            "--level {} is too large (at most 8)",
+            options.level
+        ));
+    }
+    Ok(options)
+}
+
+fn main() -> ExitCode {
+    faer::set_global_parallelism(faer::Par::Seq);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let options = match parse(&args) {
+        Ok(o) => o,
+        Err(message) => {
+            eprintln!("{message}");
+            return ExitCode::from(2);
+        }
+    };
+    let report = match options.case.as_str() {
+        "spmv" => compare_spmv(&connection_laplacian(options.level), options.repeats),
+        "cholesky" => compare_cholesky(&connection_laplacian(options.level), options.repeats),
+        "eigs" => compare_eigs(options.level, options.k, options.repeats),
+        other => {
+            eprintln!("unknown case {other}\n{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    println!("{report}");
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,266 @@
+//! Command-line arguments (clap derive) and their translation into library options.
+
+use std::path::PathBuf;
+
+use clap::error::ErrorKind;
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions};
+use dirac::well::PotentialWell;
+
+const AFTER_HELP: &str = "\
+Exit codes:
+  0  success
+  1  the mesh cannot be read or is invalid (the message names the file and the problem),
+     or the spectrum cannot be computed
+  2  usage error (bad or missing arguments)
+  3  the eigensolver did not converge; what did converge is printed
+     (with --json as the usual object with \"converged\": false)
+
+Examples:
+  dirac spectrum -k 10                       # built-in `spot` mesh, relative Dirac
+  dirac spectrum bunny.obj --operator family --tau 0.5 -k 20 --json";
+
+/// Spectra of the operators of \"A Dirac Operator for Extrinsic Shape Analysis\" (Liu,
+/// Jacobson, Crane 2017) on triangle meshes.
+#[derive(Debug, Parser)]
+#[command(name = "dirac", version, about, after_help = AFTER_HELP)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The k eigenvalues of smallest |λ| of an operator on a mesh.
+    #[command(after_help = AFTER_HELP)]
+    Spectrum(SpectrumArgs),
+}
+
+/// Arguments of `dirac spectrum`.
+#[derive(Debug, Args)]
+pub struct SpectrumArgs {
+    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    pub mesh: Option<PathBuf>,
+
+    /// The operator.
+    #[arg(long, value_enum, default_value_t = OperatorArg::RelativeDirac)]
+    pub operator: OperatorArg,
+
+    /// Weight τ ∈ [0, 1] of D_N in the family L(τ); required for `family` and
+    /// `family-literal`, rejected for the other operators.
+    #[arg(long, value_name = "T", value_parser = unit_interval)]
+    pub tau: Option<f64>,
+
+    /// Number of eigenvalues (those of smallest |λ|).
+    #[arg(short, default_value_t = 10, value_parser = positive_count)]
+    pub k: usize,
+
+    /// Representation the eigensolver works in.
+    #[arg(long, value_enum, default_value_t = BackendArg::Native)]
+    pub backend: BackendArg,
+
+    /// Scale normalisation applied to the mesh first.
+    #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
+    pub normalize: NormalizeArg,
+
+    /// Print exactly one JSON object on stdout instead of tables.
+    #[arg(long)]
+    pub json: bool,
+
+    /// Relative residual tolerance of the eigensolver.
+    #[arg(long, default_value = "1e-10", value_parser = positive_real)]
+    pub tolerance: f64,
+
+    /// Seed of the eigensolver's start vectors.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+
+    /// No progress display on stderr.
+    #[arg(short, long)]
+    pub quiet: bool,
+
+    /// Potential well (paper §5.1): radius β in geodesic distance; enables the well.
+    #[arg(long, value_name = "BETA", value_parser = nonnegative_real, help_heading = "Potential well")]
+    pub well_radius: Option<f64>,
+
+    /// Centre vertex of the well (0-based); default: the vertex nearest the area centroid.
+    #[arg(
+        long,
+        value_name = "V",
+        requires = "well_radius",
+        help_heading = "Potential well"
+    )]
+    pub well_center: Option<usize>,
+
+    /// Steepness γ of the well.
+    #[arg(long, value_name = "GAMMA", default_value_t = PotentialWell::with_radius(0.0).steepness,
+          value_parser = nonnegative_real, requires = "well_radius",
+          help_heading = "Potential well")]
+    pub well_steepness: f64,
+
+    /// Height c of the well.
+    #[arg(long, value_name = "C", default_value_t = PotentialWell::with_radius(0.0).height,
+          value_parser = nonnegative_real, requires = "well_radius",
+          help_heading = "Potential well")]
+    pub well_height: f64,
+}
+
+/// `--operator` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OperatorArg {
+    /// Cotangent Laplacian Δ.
+    Laplace,
+    /// Relative Dirac operator D_N.
+    RelativeDirac,
+    /// Extrinsic Dirac operator D_f.
+    ExtrinsicDirac,
+    /// The family L(τ), blended pencil (needs --tau).
+    Family,
+    /// The family L(τ), literal Galerkin operator (needs --tau).
+    FamilyLiteral,
+    /// Squared relative Dirac operator D_N* D_N.
+    Squared,
+}
+
+/// `--backend` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BackendArg {
+    /// Quaternion matrices and the native Cholesky.
+    Native,
+    /// 4n×4n real-block expansion.
+    RealBlock,
+    /// 2n×2n complex adjoint.
+    ComplexAdjoint,
+}
+
+/// `--normalize` values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NormalizeArg {
+    /// Use the mesh as given.
+    None,
+    /// Scale to unit total area.
+    UnitArea,
+}
+
+/// The command-line name of a value (`relative-dirac`, `unit-area`, …).
+pub fn value_name(value: &impl ValueEnum) -> String {
+    value
+        .to_possible_value()
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_default()
+}
+
+impl SpectrumArgs {
+    /// Checks what clap cannot express (`--tau` only with the family) and builds the options.
+    /// Errors are clap usage errors (exit code 2).
+    pub fn options(&self) -> Result<SpectrumOptions, clap::Error> {
+        let operator = match (self.operator, self.tau) {
+            (OperatorArg::Family, Some(tau)) => Operator::Family { tau },
+            (OperatorArg::FamilyLiteral, Some(tau)) => Operator::FamilyLiteral { tau },
+            (OperatorArg::Family | OperatorArg::FamilyLiteral, None) => {
+                return Err(usage_error(
+                    ErrorKind::MissingRequiredArgument,
+                    format!(
+                        "--operator {} needs --tau <T> (the weight of D_N, in [0, 1])",
+                        value_name(&self.operator)
+                    ),
+                ));
+            }
+            (_, Some(_)) => {
+                return Err(usage_error(
+                    ErrorKind::ArgumentConflict,
+                    format!(
+                        "--tau applies only to --operator family or family-literal, not {}",
+                        value_name(&self.operator)
+                    ),
+                ));
+            }
+            (OperatorArg::Laplace, None) => Operator::Laplace,
+            (OperatorArg::RelativeDirac, None) => Operator::RelativeDirac,
+            (OperatorArg::ExtrinsicDirac, None) => Operator::ExtrinsicDirac,
+            (OperatorArg::Squared, None) => Operator::Squared,
+        };
+        let mut options = SpectrumOptions::new(operator, self.k);
+        options.backend = match self.backend {
+            BackendArg::Native => SolverBackend::Native,
+            BackendArg::RealBlock => SolverBackend::RealBlock,
+            BackendArg::ComplexAdjoint => SolverBackend::ComplexAdjoint,
+        };
+        options.normalization = match self.normalize {
+            NormalizeArg::None => Normalization::None,
+            NormalizeArg::UnitArea => Normalization::UnitArea,
+        };
+        options.well = self.well_radius.map(|radius| PotentialWell {
+            center: self.well_center,
+            radius,
+            steepness: self.well_steepness,
+            height: self.well_height,
+        });
+        options.tolerance = self.tolerance;
+        options.seed = self.seed;
+        Ok(options)
+    }
+}
+
+/// A usage error of `dirac spectrum` in the style of clap's own.
+fn usage_error(kind: ErrorKind, message: String) -> clap::Error {
+    let mut command = Cli::command();
+    command.build();
+    match command.find_subcommand_mut("spectrum") {
+        Some(spectrum) => spectrum.error(kind, message),
+        None => command.error(kind, message),
+    }
+}
+
+fn finite(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("`{text}` is not a finite number")),
+    }
+}
+
+fn unit_interval(text: &str) -> Result<f64, String> {
+    let x = finite(text)?;
+    if (0.0..=1.0).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!("{x} is outside [0, 1]"))
+    }
+}
+
+fn positive_real(text: &str) -> Result<f64, String> {
+    let x = finite(text)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{x} is not positive"))
+    }
+}
+
+fn nonnegative_real(text: &str) -> Result<f64, String> {
+    let x = finite(text)?;
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{x} is negative"))
+    }
+}
+
+fn positive_count(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(k) if k > 0 => Ok(k),
+        _ => Err(format!("`{text}` is not a positive integer")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,212 @@
+//! What `dirac spectrum` prints: one [`Report`], as tables for people or as one JSON object.
+
+use std::io::{self, Write};
+use std::time::Duration;
+
+use dirac::Topology;
+use dirac::spectrum::Spectrum;
+use serde::Serialize;
+
+/// Everything a run reports. Field names are the JSON keys.
+#[derive(Debug, Serialize)]
+pub struct Report {
+    /// The mesh file as given, or `spot (built-in)`.
+    pub mesh: String,
+    /// Number of vertices.
+    pub vertices: usize,
+    /// Number of faces.
+    pub faces: usize,
+    /// Boundary loops, components and genus (human output only).
+    #[serde(skip)]
+    pub topology: Topology,
+    /// The `--operator` value.
+    pub operator: String,
+    /// `τ` of the family, `null` for the other operators.
+    pub tau: Option<f64>,
+    /// Number of eigenvalues asked for.
+    pub k: usize,
+    /// The `--backend` value.
+    pub backend: String,
+    /// The `--normalize` value.
+    pub normalize: String,
+    /// The potential well, `null` without one.
+    pub well: Option<WellReport>,
+    /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
+    pub converged: bool,
+    /// Eigenvalues, signed, sorted by `|λ|`.
+    pub eigenvalues: Vec<f64>,
+    /// Relative residual of each eigenpair.
+    pub residuals: Vec<f64>,
+    /// Eigensolver counts.
+    pub statistics: StatisticsReport,
+    /// Wall-clock times in seconds.
+    pub timings: Timings,
+}
+
+/// The potential well's parameters.
+#[derive(Debug, Serialize)]
+pub struct WellReport {
+    /// Centre vertex (`null`: the vertex nearest the area centroid).
+    pub center: Option<usize>,
+    /// Radius `β`.
+    pub radius: f64,
+    /// Steepness `γ`.
+    pub steepness: f64,
+    /// Height `c`.
+    pub height: f64,
+}
+
+/// Eigensolver counts (of the last solve for the literal family).
+#[derive(Debug, Default, Serialize)]
+pub struct StatisticsReport {
+    /// Lanczos steps.
+    pub iterations: usize,
+    /// Thick restarts.
+    pub restarts: usize,
+    /// Krylov sequences started from a fresh vector.
+    pub rounds: usize,
+    /// Applications of the operator.
+    pub operator_applications: usize,
+    /// Triangular solves.
+    pub solves: usize,
+}
+
+/// Wall-clock times in seconds.
+#[derive(Debug, Default, Serialize)]
+pub struct Timings {
+    /// Reading and validating the mesh.
+    pub load: f64,
+    /// Assembly and eigensolve together (everything after loading).
+    pub assemble_and_solve: f64,
+    /// Symbolic analysis and numeric factorisation.
+    pub factorization: f64,
+    /// Triangular solves.
+    pub solves: f64,
+    /// Gram–Schmidt and restarts.
+    pub orthogonalization: f64,
+}
+
+impl Report {
+    /// Copies the eigenvalues, residuals and statistics of `spectrum` into the report.
+    pub fn set_spectrum(&mut self, spectrum: &Spectrum, assemble_and_solve: Duration) {
+        let s = &spectrum.statistics;
+        self.eigenvalues.clone_from(&spectrum.eigenvalues);
+        self.residuals.clone_from(&spectrum.residuals);
+        self.statistics = StatisticsReport {
+            iterations: s.iterations,
+            restarts: s.restarts,
+            rounds: s.rounds,
+            operator_applications: s.operator_applications,
+            solves: s.solves,
+        };
+        self.timings.assemble_and_solve = assemble_and_solve.as_secs_f64();
+        self.timings.factorization = s.factorization_time.as_secs_f64();
+        self.timings.solves = s.solve_time.as_secs_f64();
+        self.timings.orthogonalization = s.orthogonalization_time.as_secs_f64();
+    }
+}
+
+/// Writes the report as one JSON object and a newline.
+pub fn write_json(report: &Report, out: &mut impl Write) -> io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, report)?;
+    writeln!(out)
+}
+
+/// Writes the report as text: mesh summary, eigenvalue table, statistics and timings.
+pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
+    let t = &report.topology;
+    let boundary = match t.boundary_loops.len() {
+        0 => "closed".to_string(),
+        1 => "1 boundary loop".to_string(),
+        b => format!("{b} boundary loops"),
+    };
+    let components = match t.components.len() {
+        1 => "1 component".to_string(),
+        c => format!("{c} components"),
+    };
+    writeln!(out, "mesh        {}", report.mesh)?;
+    writeln!(
+        out,
+        "            {} vertices, {} faces, {boundary}, {components}, genus {}",
+        report.vertices,
+        report.faces,
+        t.genus()
+    )?;
+    let tau = report
+        .tau
+        .map(|t| format!(" (tau = {t})"))
+        .unwrap_or_default();
+    writeln!(
+        out,
+        "operator    {}{tau}, k = {}, backend {}, normalize {}",
+        report.operator, report.k, report.backend, report.normalize
+    )?;
+    if let Some(w) = &report.well {
+        let center = w
+            .center
+            .map_or_else(|| "centroid vertex".to_string(), |c| format!("vertex {c}"));
+        writeln!(
+            out,
+            "well        radius {}, centre {center}, steepness {}, height {:e}",
+            w.radius, w.steepness, w.height
+        )?;
+    }
+    writeln!(out)?;
+    writeln!(
+        out,
+        "{:>5}  {:>20}  {:>9}",
+        "index", "eigenvalue", "residual"
+    )?;
+    for (i, (value, residual)) in report.eigenvalues.iter().zip(&report.residuals).enumerate() {
+        writeln!(out, "{i:>5}  {:>20}  {residual:>9.2e}", significant(*value))?;
+    }
+    if !report.converged {
+        writeln!(
+            out,
+            "(only {} of {} eigenvalues converged)",
+            report.eigenvalues.len(),
+            report.k
+        )?;
+    }
+    writeln!(out)?;
+    let s = &report.statistics;
+    writeln!(
+        out,
+        "statistics  {} iterations, {} restarts, {} rounds, {} operator applications, {} solves",
+        s.iterations, s.restarts, s.rounds, s.operator_applications, s.solves
+    )?;
+    let tm = &report.timings;
+    writeln!(
+        out,
+        "timings     load {:.3} s, assemble+solve {:.3} s \
+         (factorization {:.3} s, solves {:.3} s, orthogonalization {:.3} s)",
+        tm.load, tm.assemble_and_solve, tm.factorization, tm.solves, tm.orthogonalization
+    )
+}
+
+/// `x` with 10 significant digits: fixed-point for moderate magnitudes, scientific otherwise.
+fn significant(x: f64) -> String {
+    let magnitude = x.abs();
+    if x == 0.0 {
+        format!("{:.9}", 0.0)
+    } else if (1e-4..1e9).contains(&magnitude) {
+        let decimals = (9 - magnitude.log10().floor() as i32).clamp(0, 13) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.9e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::significant;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(significant(-19.995093148123), "-19.99509315");
+        assert_eq!(significant(2.0), "2.000000000");
+        assert_eq!(significant(0.0), "0.000000000");
+        assert_eq!(significant(1.5e-7), "1.500000000e-7");
+        assert_eq!(significant(f64::NAN), "NaN");
+    }
+}

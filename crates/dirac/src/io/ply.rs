@@ -1,0 +1,248 @@
+//! Polygon File Format, ASCII and binary, through `ply-rs-bw`: element `vertex` with scalar
+//! `x`, `y`, `z` (any numeric type), element `face` with an integer list `vertex_indices` (or
+//! `vertex_index`). Other elements and properties are ignored on reading.
+
+use std::io::{Read, Write};
+use std::path::Path;
+
+use ply_rs_bw::parser::Parser;
+use ply_rs_bw::ply::{
+    Addable, DefaultElement, ElementDef, Encoding, Ply, Property, PropertyDef, PropertyType,
+    ScalarType,
+};
+use ply_rs_bw::writer::Writer;
+
+use super::{ParseError, RawMesh, WriteError, create, with_path};
+use crate::TriMesh;
+
+/// Parses a PLY file (ASCII, binary little or big endian): positions in file order, polygons
+/// fan-triangulated.
+pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut reader)
+        .map_err(|e| ParseError::Ply {
+            line: e.line(),
+            message: e.to_string(),
+        })?;
+    let element = |name: &'static str| {
+        ply.payload
+            .get(name)
+            .ok_or_else(|| ParseError::PlyStructure {
+                element: name,
+                problem: "missing".into(),
+            })
+    };
+    let vertices = element("vertex")?;
+    let faces = element("face")?;
+
+    let mut mesh = RawMesh {
+        positions: Vec::with_capacity(vertices.len()),
+        faces: Vec::with_capacity(faces.len()),
+    };
+    for (index, vertex) in vertices.iter().enumerate() {
+        let mut p = [0.0; 3];
+        for (c, name) in p.iter_mut().zip(["x", "y", "z"]) {
+            *c = vertex
+                .get(name)
+                .and_then(scalar)
+                .ok_or_else(|| ParseError::PlyValue {
+                    element: "vertex",
+                    index,
+                    problem: format!("no numeric scalar property `{name}`"),
+                })?;
+        }
+        mesh.positions.push(p);
+    }
+    let vertex_count = mesh.positions.len();
+    for (index, face) in faces.iter().enumerate() {
+        let bad = |problem: String| ParseError::PlyValue {
+            element: "face",
+            index,
+            problem,
+        };
+        let list = ["vertex_indices", "vertex_index"]
+            .iter()
+            .find_map(|name| face.get(*name))
+            .and_then(integer_list)
+            .ok_or_else(|| bad("no integer list property `vertex_indices`".into()))?;
+        if list.len() < 3 {
+            return Err(bad(format!(
+                "a face needs at least 3 vertices, found {}",
+                list.len()
+            )));
+        }
+        let polygon = list
+            .iter()
+            .map(|&i| {
+                usize::try_from(i)
+                    .ok()
+                    .filter(|&v| v < vertex_count)
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "vertex index {i} does not name one of the {vertex_count} vertices"
+                        ))
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        mesh.push_polygon(&polygon);
+    }
+    Ok(mesh)
+}
+
+/// A numeric scalar as `f64`.
+fn scalar(p: &Property) -> Option<f64> {
+    match *p {
+        Property::Char(v) => Some(v.into()),
+        Property::UChar(v) => Some(v.into()),
+        Property::Short(v) => Some(v.into()),
+        Property::UShort(v) => Some(v.into()),
+        Property::Int(v) => Some(v.into()),
+        Property::UInt(v) => Some(v.into()),
+        Property::Float(v) => Some(v.into()),
+        Property::Double(v) => Some(v),
+        _ => None,
+    }
+}
+
+/// An integer list as `i64`s.
+fn integer_list(p: &Property) -> Option<Vec<i64>> {
+    fn widen<T: Copy + Into<i64>>(list: &[T]) -> Option<Vec<i64>> {
+        Some(list.iter().map(|&v| v.into()).collect())
+    }
+    match p {
+        Property::ListChar(l) => widen(l),
+        Property::ListUChar(l) => widen(l),
+        Property::ListShort(l) => widen(l),
+        Property::ListUShort(l) => widen(l),
+        Property::ListInt(l) => widen(l),
+        Property::ListUInt(l) => widen(l),
+        _ => None,
+    }
+}
+
+/// How [`write_ply_to`] encodes the payload.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PlyEncoding {
+    /// Human-readable text.
+    #[default]
+    Ascii,
+    /// Little-endian binary.
+    BinaryLittleEndian,
+}
+
+/// What [`write_ply_to`] writes besides positions and faces.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PlyWriteOptions<'a> {
+    /// The encoding.
+    pub encoding: PlyEncoding,
+    /// A per-vertex `double` property: its name and one value per vertex.
+    pub scalar: Option<(&'a str, &'a [f64])>,
+    /// Per-vertex colour, written as `uchar` properties `red`, `green`, `blue`.
+    pub colors: Option<&'a [[u8; 3]]>,
+}
+
+/// Writes `mesh` as PLY: `vertex` with `double x, y, z` (then the optional scalar and colour),
+/// `face` with `list uchar uint vertex_indices`.
+pub fn write_ply_to(
+    mesh: &TriMesh,
+    out: &mut impl Write,
+    options: &PlyWriteOptions,
+) -> Result<(), WriteError> {
+    let n = mesh.vertex_count();
+    if u32::try_from(n).is_err() {
+        return Err(WriteError::TooManyVertices(n));
+    }
+    let check_length = |attribute: &str, found: usize| {
+        if found == n {
+            Ok(())
+        } else {
+            Err(WriteError::AttributeLength {
+                attribute: attribute.to_string(),
+                expected: n,
+                found,
+            })
+        }
+    };
+    let mut vertex_def = ElementDef::new("vertex".into());
+    let scalar_property = |name: &str, t| PropertyDef::new(name.into(), PropertyType::Scalar(t));
+    for name in ["x", "y", "z"] {
+        vertex_def
+            .properties
+            .add(scalar_property(name, ScalarType::Double));
+    }
+    if let Some((name, values)) = options.scalar {
+        let reserved = ["x", "y", "z", "red", "green", "blue"];
+        if name.is_empty() || name.contains(char::is_whitespace) || reserved.contains(&name) {
+            return Err(WriteError::BadPropertyName(name.into()));
+        }
+        check_length(name, values.len())?;
+        vertex_def
+            .properties
+            .add(scalar_property(name, ScalarType::Double));
+    }
+    if let Some(colors) = options.colors {
+        check_length("color", colors.len())?;
+        for name in ["red", "green", "blue"] {
+            vertex_def
+                .properties
+                .add(scalar_property(name, ScalarType::UChar));
+        }
+    }
+    let mut face_def = ElementDef::new("face".into());
+    face_def.properties.add(PropertyDef::new(
+        "vertex_indices".into(),
+        PropertyType::List(ScalarType::UChar, ScalarType::UInt),
+    ));
+
+    let vertices = (0..n)
+        .map(|v| {
+            let mut e = DefaultElement::new();
+            for (name, c) in ["x", "y", "z"].iter().zip(mesh.positions()[v]) {
+                e.insert(name.to_string(), Property::Double(c));
+            }
+            if let Some((name, values)) = options.scalar {
+                e.insert(name.into(), Property::Double(values[v]));
+            }
+            if let Some(colors) = options.colors {
+                for (name, c) in ["red", "green", "blue"].iter().zip(colors[v]) {
+                    e.insert(name.to_string(), Property::UChar(c));
+                }
+            }
+            e
+        })
+        .collect();
+    let faces = mesh
+        .faces()
+        .iter()
+        .map(|f| {
+            let mut e = DefaultElement::new();
+            let list = f.iter().map(|&v| v as u32).collect();
+            e.insert("vertex_indices".into(), Property::ListUInt(list));
+            e
+        })
+        .collect();
+
+    let mut ply = Ply::<DefaultElement>::new();
+    ply.header.encoding = match options.encoding {
+        PlyEncoding::Ascii => Encoding::Ascii,
+        PlyEncoding::BinaryLittleEndian => Encoding::BinaryLittleEndian,
+    };
+    ply.header.elements.add(vertex_def);
+    ply.header.elements.add(face_def);
+    ply.payload.insert("vertex".into(), vertices);
+    ply.payload.insert("face".into(), faces);
+    Writer::new()
+        .write_ply(out, &mut ply)
+        .map(|_| ())
+        .map_err(|source| WriteError::Io { path: None, source })
+}
+
+/// Writes `mesh` to the PLY file `path` ([`write_ply_to`]).
+pub fn write_ply(
+    mesh: &TriMesh,
+    path: impl AsRef<Path>,
+    options: &PlyWriteOptions,
+) -> Result<(), WriteError> {
+    let path = path.as_ref();
+    write_ply_to(mesh, &mut create(path)?, options).map_err(|e| with_path(path, e))
+}

@@ -1,0 +1,90 @@
+//! Mass-orthonormal eigenvectors in canonical phase (paper §4.3, math-spec §5).
+//!
+//! A quaternionic eigenvector is defined up to a unit quaternion on the right, `φ ↦ φ c`. The
+//! paper fixes it with `q = Σ_p Ā_p φ_p⁻¹`, `φ ← φ q/|q|` (right multiplication), which is
+//! equivariant: `φ c` gives `q' ∝ c⁻¹ q` and the same canonical form. Under a rotation of the
+//! mesh `f ↦ r f r̄` the canonical forms satisfy `φ̃ = r φ r̄`.
+
+use qscalar::{Quat, Scalar};
+use qsparse::vector::axpy;
+
+/// `⟨x, y⟩_M = Σ_p Ā_p conj(x_p) y_p`.
+pub fn mass_inner(masses: &[f64], x: &[Quat<f64>], y: &[Quat<f64>]) -> Quat<f64> {
+    masses
+        .iter()
+        .zip(x.iter().zip(y))
+        .map(|(&m, (&a, &b))| (a.conj() * b) * m)
+        .sum()
+}
+
+/// `‖x‖_M = sqrt(Σ_p Ā_p |x_p|²)`.
+pub fn mass_norm(masses: &[f64], x: &[Quat<f64>]) -> f64 {
+    masses
+        .iter()
+        .zip(x)
+        .map(|(&m, q)| m * q.abs2())
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Puts `phi` in canonical phase and scales it to unit mass norm:
+/// `q = Σ_p Ā_p φ_p⁻¹` over the vertices with `|φ_p|` above `10⁻⁸ max|φ|` (near-zeros would
+/// dominate the sum), `φ ← φ q/|q|`, then `φ ← φ / ‖φ‖_M`. When `q` vanishes (a real
+/// Laplacian mode can have `Σ Ā/g = 0`) only the normalisation is applied.
+pub fn canonicalize(masses: &[f64], phi: &mut [Quat<f64>]) {
+    let largest = phi.iter().map(|q| q.norm()).fold(0.0, f64::max);
+    let q: Quat<f64> = masses
+        .iter()
+        .zip(phi.iter())
+        .filter(|(_, p)| p.norm() > 1e-8 * largest)
+        .map(|(&m, &p)| p.inv() * m)
+        .sum();
+    if let Some(unit) = q.try_normalize(1e-300) {
+        for p in phi.iter_mut() {
+            *p *= unit;
+        }
+    }
+    let norm = mass_norm(masses, phi);
+    if norm > 0.0 {
+        for p in phi.iter_mut() {
+            *p /= norm;
+        }
+    }
+}
+
+/// Mass-orthonormalises, within every cluster of equal eigenvalues (consecutive values, in the
+/// given order, within `relative_gap · max(|λ|, 1)`), the eigenvectors by Gram–Schmidt with
+/// coefficients on the right (`v ← v − u ⟨u, v⟩_M`), then puts each in canonical phase.
+/// Eigenvectors of distinct eigenvalues are left as the pencil made them.
+pub fn orthonormalize_and_canonicalize(
+    masses: &[f64],
+    values: &[f64],
+    vectors: &mut [Vec<Quat<f64>>],
+    relative_gap: f64,
+) {
+    let mut start = 0;
+    while start < vectors.len() {
+        let mut end = start + 1;
+        while end < vectors.len()
+            && (values[end] - values[start]).abs() <= relative_gap * values[start].abs().max(1.0)
+        {
+            end += 1;
+        }
+        for i in start..end {
+            let (done, rest) = vectors.split_at_mut(i);
+            let v = &mut rest[0];
+            for u in &done[start..i] {
+                let coefficient = mass_inner(masses, u, v);
+                axpy(v, u, -coefficient);
+            }
+            let norm = mass_norm(masses, v);
+            if norm > 0.0 {
+                v.iter_mut().for_each(|p| *p /= norm);
+            }
+        }
+        start = end;
+    }
+    for v in vectors.iter_mut() {
+        canonicalize(masses, v);
+    }
+}

@@ -1,0 +1,592 @@
+//! Spectra of the paper's operators: one Hermitian-definite pencil per operator (DESIGN.md §3),
+//! solved by `qeig` with any of its backends.
+//!
+//! | operator | pencil solved | reported `λ` |
+//! |---|---|---|
+//! | Laplace | `M x = μ (L + εM) x`, constants deflated (real scalar problem) | `1/μ − ε`; `0` for the constants |
+//! | relative / extrinsic Dirac | `G x = μ (A + εM) x` | `x*Ax / x*Gx` (signed) |
+//! | family `L(τ)`, blended | `B_τ x = μ (A_τ + εM) x`, constants deflated | `x*A_τx / x*B_τx`; `0` for the constants |
+//! | family, literal | `M x = μ (K(τ) + σM) x`, `K(τ) = (1−τ)L + τG` | `1/μ − σ` |
+//! | squared `D_N* D_N` | `M x = μ (A + εM) x`, constants deflated | `1/μ − ε`; `0` for the constants |
+//!
+//! with `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M`, and `ε`
+//! a regularisation `10⁻⁶` times the largest diagonal ratio of the stiffness to `M` (it never
+//! changes a reported `λ`: Dirac-type values are Rayleigh quotients of the returned vectors, the
+//! others are shifted back exactly). `σ` is a Gershgorin bound that makes `K(τ) + σM` positive
+//! definite; the literal family then collects eigenvalues from the bottom of the spectrum until
+//! the `k` of smallest `|λ|` are certain.
+//!
+//! Results: the `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, each as often as its
+//! multiplicity; eigenvectors of unit mass norm `Σ_p Ā_p |φ_p|² = 1`, mass-orthonormal within
+//! each eigenspace, in canonical phase ([`crate::phase`]). At `τ = 1` (relative Dirac) the
+//! constants and the flat-region kernel are not eigenpairs of the pencil (`0/0`) and are not
+//! reported. With a potential well the constants are not in the kernel and are not deflated.
+
+use qeig::{
+    ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, Progress, RealBlock,
+    Statistics, Which,
+};
+use qscalar::{Quat, Scalar};
+use qsparse::{SparseMatrix, vector};
+use thiserror::Error;
+
+use crate::TriMesh;
+use crate::geometry::{barycentric_masses, cotan_laplacian};
+use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, normal_dirac, quaternionic};
+use crate::phase::orthonormalize_and_canonicalize;
+use crate::well::{PotentialWell, WellError, dirac_with_well, laplacian_with_well};
+
+/// The operator whose spectrum is computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Operator {
+    /// The cotangent Laplacian `Δ` (τ = 0).
+    Laplace,
+    /// The relative Dirac operator `D_N` (τ = 1), area-weighted vertex normals.
+    RelativeDirac,
+    /// The extrinsic Dirac operator `D_f`.
+    ExtrinsicDirac,
+    /// The family `L(τ)` as the blended pencil (default discretisation), `0 ≤ τ ≤ 1`.
+    Family {
+        /// Weight of `D_N` (0: Laplace, 1: relative Dirac).
+        tau: f64,
+    },
+    /// The family `L(τ)` as the literal Galerkin operator `(1−τ)L + τG`, `0 ≤ τ ≤ 1`.
+    FamilyLiteral {
+        /// Weight of `D_N`.
+        tau: f64,
+    },
+    /// The squared relative Dirac operator `D_N* D_N` (pencil `A x = ν M x`).
+    Squared,
+}
+
+/// Which representation the eigensolver works in (`qeig` backends).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverBackend {
+    /// Quaternion matrices and the native Cholesky.
+    #[default]
+    Native,
+    /// The 4n×4n real-block expansion with faer's Cholesky.
+    RealBlock,
+    /// The 2n×2n complex adjoint with faer's Cholesky.
+    ComplexAdjoint,
+}
+
+/// Scale normalisation applied to the mesh before assembly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Normalization {
+    /// Use the mesh as given.
+    #[default]
+    None,
+    /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Eigenvalues of `D_N`, `Δ`
+    /// and `L(τ)` scale as `1/s²`, those of `D_f` as `1/s`.
+    UnitArea,
+}
+
+/// Options of [`spectrum`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectrumOptions {
+    /// The operator.
+    pub operator: Operator,
+    /// Number of eigenvalues (of smallest `|λ|`).
+    pub k: usize,
+    /// Eigensolver representation.
+    pub backend: SolverBackend,
+    /// Scale normalisation.
+    pub normalization: Normalization,
+    /// Optional infinite potential well (paper §5.1).
+    pub well: Option<PotentialWell>,
+    /// Relative residual tolerance of the eigensolver.
+    pub tolerance: f64,
+    /// Seed of the eigensolver's start vectors.
+    pub seed: u64,
+}
+
+impl SpectrumOptions {
+    /// `k` eigenvalues of `operator`, native backend, no normalisation, no well, tolerance
+    /// `1e−10`.
+    pub fn new(operator: Operator, k: usize) -> Self {
+        Self {
+            operator,
+            k,
+            backend: SolverBackend::Native,
+            normalization: Normalization::None,
+            well: None,
+            tolerance: 1e-10,
+            seed: 0,
+        }
+    }
+}
+
+/// A computed spectrum.
+#[derive(Debug, Clone)]
+pub struct Spectrum {
+    /// Eigenvalues `λ`, signed, sorted by `|λ|`.
+    pub eigenvalues: Vec<f64>,
+    /// Eigenvectors `φ` (one quaternion per vertex), unit mass norm, canonical phase.
+    pub eigenvectors: Vec<Vec<Quat<f64>>>,
+    /// Relative residual of each pair in the pencil that was solved (0 for the exact constant
+    /// mode that is reported without solving).
+    pub residuals: Vec<f64>,
+    /// Eigensolver statistics (of the last solve for the literal family).
+    pub statistics: Statistics,
+    /// Factor applied to the positions (1 without normalisation).
+    pub scale: f64,
+}
+
+/// Why a spectrum could not be computed.
+#[derive(Debug, Clone, Error)]
+#[non_exhaustive]
+pub enum SpectrumError {
+    /// `k` is zero or exceeds what the mesh has.
+    #[error("cannot compute {k} eigenvalues on a mesh with {vertices} vertices")]
+    InvalidCount {
+        /// Requested count.
+        k: usize,
+        /// Vertices.
+        vertices: usize,
+    },
+    /// `τ` outside `[0, 1]` (or not finite).
+    #[error("tau = {0} is outside [0, 1]")]
+    InvalidTau(f64),
+    /// The operator could not be assembled.
+    #[error(transparent)]
+    Operator(#[from] OperatorError),
+    /// The potential well could not be computed.
+    #[error(transparent)]
+    Well(#[from] WellError),
+    /// The eigensolver failed.
+    #[error("eigensolver: {0}")]
+    Eigen(String),
+    /// The eigensolver stopped early; `partial` holds what converged, post-processed like a
+    /// full result.
+    #[error("the eigensolver converged {} of {wanted} eigenvalues", partial.eigenvalues.len())]
+    NotConverged {
+        /// Eigenvalues asked for.
+        wanted: usize,
+        /// The converged part.
+        partial: Box<Spectrum>,
+    },
+}
+
+/// A solved pencil before the eigenvalue map: `(μ, x, residual)` and statistics.
+type Solved = (Vec<f64>, Vec<Vec<Quat<f64>>>, Vec<f64>, Statistics);
+
+/// Outcome of one pencil solve: everything converged, or only part of it.
+enum Outcome {
+    Complete(Solved),
+    Partial(Solved),
+}
+
+/// The spectrum of `options.operator` on `mesh`; see the module documentation for the pencils.
+pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, SpectrumError> {
+    spectrum_with_progress(mesh, options, None)
+}
+
+/// [`spectrum`] with a callback invoked after every restart of the eigensolver.
+pub fn spectrum_with_progress(
+    mesh: &TriMesh,
+    options: &SpectrumOptions,
+    mut progress: Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Spectrum, SpectrumError> {
+    let n = mesh.vertex_count();
+    if options.k == 0 || options.k > n {
+        return Err(SpectrumError::InvalidCount {
+            k: options.k,
+            vertices: n,
+        });
+    }
+    if let Operator::Family { tau } | Operator::FamilyLiteral { tau } = options.operator
+        && !(0.0..=1.0).contains(&tau)
+    {
+        return Err(SpectrumError::InvalidTau(tau));
+    }
+    let (scale, scaled);
+    let mesh = match options.normalization {
+        Normalization::None => {
+            scale = 1.0;
+            mesh
+        }
+        Normalization::UnitArea => {
+            let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
+            scale = 1.0 / area.sqrt();
+            scaled = scaled_mesh(mesh, scale);
+            &scaled
+        }
+    };
+    let masses = barycentric_masses(mesh);
+    let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
+    let deflate_constants = potential.is_none();
+    let constants = || vec![vec![Quat::from_real(1.0); n]];
+    let mass = quaternionic(&SparseMatrix::from_diagonal(&masses));
+    let progress = &mut progress;
+
+    let laplacian = || -> Result<SparseMatrix<f64>, SpectrumError> {
+        let l = cotan_laplacian(mesh);
+        Ok(match &potential {
+            Some(u) => laplacian_with_well(mesh, &l, u)?,
+            None => l,
+        })
+    };
+    let dirac_pencil = |relative: bool| -> Result<DiracPencil, SpectrumError> {
+        let d = if relative {
+            normal_dirac(mesh)?
+        } else {
+            extrinsic_dirac(mesh)?
+        };
+        let d = match &potential {
+            Some(u) => dirac_with_well(mesh, &d, u)?,
+            None => d,
+        };
+        Ok(DiracPencil::new(mesh, &d)?)
+    };
+
+    // ε must reflect the operator's own scale, not the wall's (entries up to c² with a well).
+    let natural_epsilon = match &potential {
+        Some(_) => Some(natural_regularization(mesh, options.operator, &masses)?),
+        None => None,
+    };
+    let regularize = |stiffness: &SparseMatrix<Quat<f64>>| {
+        natural_epsilon.unwrap_or_else(|| regularization(stiffness, &masses))
+    };
+
+    let (values, vectors, residuals, statistics, complete) = match options.operator {
+        Operator::Laplace | Operator::Family { tau: 0.0 } => {
+            let stiffness = quaternionic(&laplacian()?);
+            let epsilon = regularize(&stiffness);
+            let deflation = deflate_constants.then(constants);
+            shifted_spectrum(
+                epsilon, options, &stiffness, &mass, &masses, deflation, progress,
+            )?
+        }
+        Operator::Squared => {
+            let stiffness = dirac_pencil(true)?.stiffness;
+            let epsilon = regularize(&stiffness);
+            let deflation = deflate_constants.then(constants);
+            shifted_spectrum(
+                epsilon, options, &stiffness, &mass, &masses, deflation, progress,
+            )?
+        }
+        Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Family { tau: 1.0 } => {
+            let pencil = dirac_pencil(options.operator != Operator::ExtrinsicDirac)?;
+            let epsilon = regularize(&pencil.stiffness);
+            let (a, g) = (&pencil.stiffness, &pencil.coupling);
+            rayleigh_spectrum(epsilon, options, a, g, &mass, &masses, None, progress)?
+        }
+        Operator::Family { tau } => {
+            let pencil = dirac_pencil(true)?;
+            let l = quaternionic(&laplacian()?);
+            let stiffness = blend(tau, &pencil.stiffness, &l)?;
+            let coupling = blend(tau, &pencil.coupling, &mass)?;
+            let epsilon = regularize(&stiffness);
+            let deflation = deflate_constants.then(constants);
+            rayleigh_spectrum(
+                epsilon, options, &stiffness, &coupling, &mass, &masses, deflation, progress,
+            )?
+        }
+        Operator::FamilyLiteral { tau } => {
+            let pencil = dirac_pencil(true)?;
+            let l = quaternionic(&laplacian()?);
+            let operator = blend(tau, &pencil.coupling, &l)?;
+            literal_spectrum(options, &operator, &mass, &masses, progress)?
+        }
+    };
+    let mut spectrum = finish(values, vectors, residuals, statistics, scale, &masses);
+    spectrum.eigenvalues.truncate(options.k);
+    spectrum.eigenvectors.truncate(options.k);
+    spectrum.residuals.truncate(options.k);
+    if complete {
+        Ok(spectrum)
+    } else {
+        Err(SpectrumError::NotConverged {
+            wanted: options.k,
+            partial: Box::new(spectrum),
+        })
+    }
+}
+
+/// `τ X + (1 − τ) Y`.
+fn blend(
+    tau: f64,
+    x: &SparseMatrix<Quat<f64>>,
+    y: &SparseMatrix<Quat<f64>>,
+) -> Result<SparseMatrix<Quat<f64>>, SpectrumError> {
+    SparseMatrix::linear_combination(Quat::from_real(tau), x, Quat::from_real(1.0 - tau), y)
+        .map_err(|e| SpectrumError::Operator(e.into()))
+}
+
+/// The mesh with positions multiplied by `s`.
+fn scaled_mesh(mesh: &TriMesh, s: f64) -> TriMesh {
+    let positions = mesh.positions().iter().map(|p| p.map(|c| c * s)).collect();
+    TriMesh::new(positions, mesh.faces().to_vec())
+        .expect("scaling by s > 0 keeps a valid mesh valid")
+}
+
+/// `ε = 10⁻⁶ · max_p S_pp / M_pp` (or `10⁻⁶` if the stiffness vanishes). The ratio is about
+/// the largest eigenvalue, so `ε` sits far below the wanted small ones while keeping the
+/// deflated constants' `μ = 1/ε` within a factor ~10⁶·n of the rest: round-off leaking into
+/// them is not amplified beyond what the tolerance allows (`10⁻¹⁰` was too small for that).
+fn regularization(stiffness: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
+    let largest = (0..masses.len())
+        .map(|p| stiffness.get(p, p).re() / masses[p])
+        .filter(|r| r.is_finite())
+        .fold(0.0, f64::max);
+    1e-6 * if largest > 0.0 { largest } else { 1.0 }
+}
+
+/// `ε` of the operator without the potential well: the well's wall (entries up to `c`, or `c²`
+/// in `A`) would otherwise set a shift that swamps the interior modes.
+fn natural_regularization(
+    mesh: &TriMesh,
+    operator: Operator,
+    masses: &[f64],
+) -> Result<f64, SpectrumError> {
+    let laplacian = || quaternionic(&cotan_laplacian(mesh));
+    let stiffness = match operator {
+        Operator::Laplace | Operator::FamilyLiteral { .. } => laplacian(),
+        Operator::ExtrinsicDirac => DiracPencil::new(mesh, &extrinsic_dirac(mesh)?)?.stiffness,
+        Operator::RelativeDirac | Operator::Squared => {
+            DiracPencil::new(mesh, &normal_dirac(mesh)?)?.stiffness
+        }
+        Operator::Family { tau } => blend(
+            tau,
+            &DiracPencil::new(mesh, &normal_dirac(mesh)?)?.stiffness,
+            &laplacian(),
+        )?,
+    };
+    Ok(regularization(&stiffness, masses))
+}
+
+/// `S + c M`.
+fn plus_mass(
+    s: &SparseMatrix<Quat<f64>>,
+    c: f64,
+    mass: &SparseMatrix<Quat<f64>>,
+) -> Result<SparseMatrix<Quat<f64>>, SpectrumError> {
+    SparseMatrix::linear_combination(Quat::from_real(1.0), s, Quat::from_real(c), mass)
+        .map_err(|e| SpectrumError::Operator(e.into()))
+}
+
+/// Solves `K x = μ S x` for the `k` wanted pairs with the chosen backend.
+fn solve_pencil(
+    options: &SpectrumOptions,
+    k_matrix: &SparseMatrix<Quat<f64>>,
+    s_matrix: &SparseMatrix<Quat<f64>>,
+    deflation: Vec<Vec<Quat<f64>>>,
+    count: usize,
+    which: Which,
+    progress: &mut Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Outcome, SpectrumError> {
+    let pencil = Pencil::new(k_matrix, s_matrix)
+        .and_then(|p| p.with_deflation(deflation))
+        .map_err(|e| SpectrumError::Eigen(e.to_string()))?;
+    let mut lanczos = LanczosOptions::new(count, which);
+    lanczos.tolerance = options.tolerance;
+    lanczos.seed = options.seed;
+    let progress: Option<&mut dyn FnMut(&Progress)> = match progress {
+        Some(callback) => Some(&mut **callback),
+        None => None,
+    };
+    let result = match options.backend {
+        SolverBackend::Native => pencil.solve_with_progress(&Native, &lanczos, progress),
+        SolverBackend::RealBlock => pencil.solve_with_progress(&RealBlock, &lanczos, progress),
+        SolverBackend::ComplexAdjoint => {
+            pencil.solve_with_progress(&ComplexAdjoint, &lanczos, progress)
+        }
+    };
+    let unpack = |e: Eigen<Quat<f64>>| (e.values, e.vectors, e.residuals, e.statistics);
+    match result {
+        Ok(e) => Ok(Outcome::Complete(unpack(e))),
+        Err(EigError::NotConverged { partial, .. }) => Ok(Outcome::Partial(unpack(*partial))),
+        Err(e) => Err(SpectrumError::Eigen(e.to_string())),
+    }
+}
+
+type Mapped = (Vec<f64>, Vec<Vec<Quat<f64>>>, Vec<f64>, Statistics, bool);
+
+fn split(outcome: Outcome) -> (Solved, bool) {
+    match outcome {
+        Outcome::Complete(s) => (s, true),
+        Outcome::Partial(s) => (s, false),
+    }
+}
+
+/// The constant mode `(0, 𝟙/‖𝟙‖_M)` prepended to a deflated result.
+fn with_constant_mode(masses: &[f64], mapped: Mapped) -> Mapped {
+    let (mut values, mut vectors, mut residuals, statistics, complete) = mapped;
+    let total: f64 = masses.iter().sum();
+    values.insert(0, 0.0);
+    vectors.insert(0, vec![Quat::from_real(1.0 / total.sqrt()); masses.len()]);
+    residuals.insert(0, 0.0);
+    (values, vectors, residuals, statistics, complete)
+}
+
+/// Solves `K x = μ S x` for the wanted pairs and maps them to `λ` with `to_lambda(μ, x)`. With
+/// `constants` deflated, one pair fewer is computed and the exact constant mode `λ = 0` is
+/// prepended.
+#[allow(clippy::too_many_arguments)]
+fn solve_mapped(
+    options: &SpectrumOptions,
+    k_matrix: &SparseMatrix<Quat<f64>>,
+    s_matrix: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+    constants: Option<Vec<Vec<Quat<f64>>>>,
+    which: Which,
+    progress: &mut Option<&mut dyn FnMut(&Progress)>,
+    to_lambda: impl Fn(f64, &[Quat<f64>]) -> f64,
+) -> Result<Mapped, SpectrumError> {
+    let deflated = constants.is_some();
+    let count = options.k - usize::from(deflated);
+    let mapped = if count == 0 {
+        (vec![], vec![], vec![], Statistics::default(), true)
+    } else {
+        let deflation = constants.unwrap_or_default();
+        let ((mu, vectors, residuals, statistics), complete) = split(solve_pencil(
+            options, k_matrix, s_matrix, deflation, count, which, progress,
+        )?);
+        let values = mu
+            .iter()
+            .zip(&vectors)
+            .map(|(&m, x)| to_lambda(m, x))
+            .collect();
+        (values, vectors, residuals, statistics, complete)
+    };
+    Ok(if deflated {
+        with_constant_mode(masses, mapped)
+    } else {
+        mapped
+    })
+}
+
+/// Pencils `M x = μ (S + εM) x` with `λ = 1/μ − ε` (Laplace, squared Dirac).
+fn shifted_spectrum(
+    epsilon: f64,
+    options: &SpectrumOptions,
+    stiffness: &SparseMatrix<Quat<f64>>,
+    mass: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+    constants: Option<Vec<Vec<Quat<f64>>>>,
+    progress: &mut Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Mapped, SpectrumError> {
+    let s = plus_mass(stiffness, epsilon, mass)?;
+    solve_mapped(
+        options,
+        mass,
+        &s,
+        masses,
+        constants,
+        Which::LargestAlgebraic,
+        progress,
+        |mu, _| 1.0 / mu - epsilon,
+    )
+}
+
+/// Pencils `G x = μ (A + εM) x` with `λ = x*Ax / x*Gx` (Dirac operators, blended family).
+#[allow(clippy::too_many_arguments)]
+fn rayleigh_spectrum(
+    epsilon: f64,
+    options: &SpectrumOptions,
+    stiffness: &SparseMatrix<Quat<f64>>,
+    coupling: &SparseMatrix<Quat<f64>>,
+    mass: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+    constants: Option<Vec<Vec<Quat<f64>>>>,
+    progress: &mut Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Mapped, SpectrumError> {
+    let s = plus_mass(stiffness, epsilon, mass)?;
+    solve_mapped(
+        options,
+        coupling,
+        &s,
+        masses,
+        constants,
+        Which::LargestMagnitude,
+        progress,
+        |_, x| rayleigh_quotient(stiffness, x) / rayleigh_quotient(coupling, x),
+    )
+}
+
+/// `Re(x* A x)`.
+fn rayleigh_quotient(a: &SparseMatrix<Quat<f64>>, x: &[Quat<f64>]) -> f64 {
+    let mut ax = vec![Quat::default(); x.len()];
+    a.mul_vec(x, &mut ax)
+        .expect("square operator of the vector's size");
+    vector::inner(x, &ax).re()
+}
+
+/// The literal family `K x = λ M x` (`K` indefinite): `M x = μ (K + σM) x`, `λ = 1/μ − σ`,
+/// collecting eigenvalues from the bottom until the `k` of smallest `|λ|` are certain.
+fn literal_spectrum(
+    options: &SpectrumOptions,
+    operator: &SparseMatrix<Quat<f64>>,
+    mass: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+    progress: &mut Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Mapped, SpectrumError> {
+    let n = masses.len();
+    // Gershgorin on M^{-1/2} K M^{-1/2}: every λ ≥ min_p (K_pp/M_pp − Σ_{q≠p} |K_pq|/√(M_pp M_qq)).
+    let mut lower = vec![0.0; n];
+    let mut scale: f64 = 0.0;
+    for (p, q, v) in operator.triplets() {
+        let weighted = v.abs() / (masses[p] * masses[q]).sqrt();
+        scale = scale.max(weighted);
+        lower[p] += if p == q {
+            v.re() / masses[p]
+        } else {
+            -weighted
+        };
+    }
+    let bound = lower.iter().copied().fold(f64::INFINITY, f64::min);
+    let sigma = 1.01 * (-bound).max(0.0) + 1e-8 * scale.max(f64::MIN_POSITIVE);
+    let s = plus_mass(operator, sigma, mass)?;
+    let mut count = (2 * options.k).min(n);
+    loop {
+        let ((mu, vectors, residuals, statistics), complete) = split(solve_pencil(
+            options,
+            mass,
+            &s,
+            Vec::new(),
+            count,
+            Which::LargestAlgebraic,
+            progress,
+        )?);
+        let values: Vec<f64> = mu.iter().map(|m| 1.0 / m - sigma).collect();
+        let highest = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let mut magnitudes: Vec<f64> = values.iter().map(|v| v.abs()).collect();
+        magnitudes.sort_by(f64::total_cmp);
+        // Every λ below `highest` is known; the k smallest |λ| are certain once they lie below it.
+        let certain = magnitudes.len() >= options.k && magnitudes[options.k - 1] <= highest;
+        if certain || count == n || !complete {
+            return Ok((values, vectors, residuals, statistics, complete));
+        }
+        count = (2 * count).min(n);
+    }
+}
+
+/// Sorts by `|λ|`, mass-orthonormalises within eigenspaces and applies the canonical phase.
+fn finish(
+    values: Vec<f64>,
+    vectors: Vec<Vec<Quat<f64>>>,
+    residuals: Vec<f64>,
+    statistics: Statistics,
+    scale: f64,
+    masses: &[f64],
+) -> Spectrum {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| {
+        values[a]
+            .abs()
+            .total_cmp(&values[b].abs())
+            .then(values[a].total_cmp(&values[b]))
+    });
+    let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
+    let mut eigenvectors: Vec<Vec<Quat<f64>>> = order.iter().map(|&i| vectors[i].clone()).collect();
+    let residuals = order.iter().map(|&i| residuals[i]).collect();
+    orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
+    Spectrum {
+        eigenvalues,
+        eigenvectors,
+        residuals,
+        statistics,
+        scale,
+    }
+}

@@ -1,0 +1,434 @@
+//! Backends: how the pencil `K x = μ S x` is represented and factorised.
+//!
+//! Every backend factorises `S = C Cᴴ` and hands the Lanczos core the Hermitian operator
+//! `A = C⁻¹ K C⁻ᴴ` on its own vector space; an eigenvector `y` of `A` maps back to
+//! `x = C⁻ᴴ y`, and `S`-orthogonality to a vector `d` is plain orthogonality to `Cᴴ d`.
+//!
+//! * [`Native`]: the matrices as they are (quaternion, complex or real), the native
+//!   supernodal Cholesky of `qsparse` (`C = Pᵀ L`).
+//! * [`RealBlock`]: the `REAL_DIM n × REAL_DIM n` real matrices of left-multiplication blocks
+//!   (math-spec §2), faer's supernodal Cholesky (`C = Pᵀ L` again, through faer's `L` and
+//!   `Lᴴ` half-solves). Each quaternionic eigenvalue appears 4 times.
+//! * [`ComplexAdjoint`]: the `COMPLEX_DIM n × COMPLEX_DIM n` complex adjoint, faer's
+//!   Cholesky. Each quaternionic eigenvalue appears twice.
+//!
+//! The embedded backends run the same Lanczos code on `f64` / `Complex<f64>` vectors; the
+//! pencil solver folds their copies back to one quaternionic pair per eigenvalue.
+
+use std::time::{Duration, Instant};
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::SparseColMat;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, supernodal::SupernodalLltRef,
+};
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::traits::ComplexField;
+use faer::{Accum, Conj, MatMut, MatRef, Par, Side, c64};
+use qscalar::Scalar;
+use qsparse::embedding::{complex_adjoint_vector, from_complex_adjoint_vector};
+use qsparse::{SparseCholesky, SparseMatrix, vector};
+
+use crate::{EigError, HermitianOperator};
+
+/// A representation of Hermitian-definite pencils over `T`.
+pub trait Backend<T: Scalar<Real = f64>> {
+    /// Scalar field of the iteration space.
+    type Field: Scalar<Real = f64>;
+    /// The factorised operator `C⁻¹ K C⁻ᴴ`.
+    type Operator: PencilOperator<Self::Field>;
+    /// How many times each eigenvalue of the `T` pencil occurs in the iteration space.
+    const COPIES: usize;
+    /// Short label (`"native"`, `"real-block"`, `"complex-adjoint"`).
+    fn name(&self) -> &'static str;
+    /// Builds the representation of `K` and `S` and factorises `S`.
+    fn prepare(
+        &self,
+        k: &SparseMatrix<T>,
+        s: &SparseMatrix<T>,
+    ) -> Result<Self::Operator, EigError<T>>;
+    /// The image of a vector of `Tⁿ` in the iteration space.
+    fn embed(&self, x: &[T]) -> Vec<Self::Field>;
+    /// Vectors of `Tⁿ` spanning (over `T`, with the other results) what `y` represents:
+    /// the inverse of [`Backend::embed`], and for real `T` in the complex adjoint, the real
+    /// and imaginary parts (both are eigenvectors when `y` is one).
+    fn extract(&self, y: &[Self::Field]) -> Vec<Vec<T>>;
+}
+
+/// The operator `A = C⁻¹ K C⁻ᴴ` of a pencil with `S = C Cᴴ`, and the maps to and from the
+/// pencil's vectors.
+pub trait PencilOperator<V>: HermitianOperator<V> {
+    /// `x = C⁻ᴴ y`: the pencil eigenvector of an eigenvector `y` of `A` (`xᴴ S x = yᴴ y`).
+    fn eigenvector(&mut self, y: &[V]) -> Vec<V>;
+    /// `Cᴴ x = C⁻¹ S x`: `S`-orthogonality to `x` is orthogonality to this vector.
+    fn adjoint_factor(&mut self, x: &[V]) -> Vec<V>;
+}
+
+/// Half-solves with the Cholesky factor `C` of `S = C Cᴴ`.
+pub trait Factor<V> {
+    /// `x ← C⁻¹ x`.
+    fn lower(&mut self, x: &mut [V]);
+    /// `x ← C⁻ᴴ x`.
+    fn upper(&mut self, x: &mut [V]);
+}
+
+/// A matrix–vector product `y = M x`.
+pub trait MatVec<V> {
+    /// `y = M x` (lengths are checked by the caller).
+    fn mul(&self, x: &[V], y: &mut [V]);
+}
+
+/// `C⁻¹ K C⁻ᴴ` for a factor `F` of `S` and matrices of type `M`.
+#[derive(Debug)]
+pub struct FactoredPencil<V, F, M> {
+    factor: F,
+    k: M,
+    s: M,
+    work: Vec<V>,
+    solves: usize,
+    solve_time: Duration,
+}
+
+impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> FactoredPencil<V, F, M> {
+    fn new(factor: F, k: M, s: M, n: usize) -> Self {
+        Self {
+            factor,
+            k,
+            s,
+            work: vec![V::zero(); n],
+            solves: 0,
+            solve_time: Duration::ZERO,
+        }
+    }
+
+    fn timed(&mut self, x: &mut [V], lower: bool) {
+        let t = Instant::now();
+        if lower {
+            self.factor.lower(x);
+        } else {
+            self.factor.upper(x);
+        }
+        self.solve_time += t.elapsed();
+        self.solves += 1;
+    }
+}
+
+impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
+    for FactoredPencil<V, F, M>
+{
+    fn dim(&self) -> usize {
+        self.work.len()
+    }
+
+    fn apply(&mut self, x: &[V], y: &mut [V]) {
+        let mut t = std::mem::take(&mut self.work);
+        t.copy_from_slice(x);
+        self.timed(&mut t, false);
+        self.k.mul(&t, y);
+        self.timed(y, true);
+        self.work = t;
+    }
+
+    /// `‖K x − θ S x‖ / (|θ| ‖S x‖)` with `x = C⁻ᴴ y` (Euclidean norms, which the real-block
+    /// and complex-adjoint embeddings preserve).
+    fn relative_residual(&mut self, y: &[V], theta: f64) -> f64 {
+        let x = self.eigenvector(y);
+        let n = x.len();
+        let (mut kx, mut sx) = (vec![V::zero(); n], vec![V::zero(); n]);
+        self.k.mul(&x, &mut kx);
+        self.s.mul(&x, &mut sx);
+        let s_norm = vector::norm(&sx);
+        vector::axpy(&mut kx, &sx, V::from_real(-theta));
+        vector::norm(&kx) / (theta.abs() * s_norm)
+    }
+
+    fn solve_statistics(&self) -> (usize, Duration) {
+        (self.solves, self.solve_time)
+    }
+}
+
+impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
+    for FactoredPencil<V, F, M>
+{
+    fn eigenvector(&mut self, y: &[V]) -> Vec<V> {
+        let mut x = y.to_vec();
+        self.timed(&mut x, false);
+        x
+    }
+
+    fn adjoint_factor(&mut self, x: &[V]) -> Vec<V> {
+        let mut sx = vec![V::zero(); x.len()];
+        self.s.mul(x, &mut sx);
+        self.timed(&mut sx, true);
+        sx
+    }
+}
+
+impl<T: Scalar<Real = f64>> Factor<T> for SparseCholesky<T> {
+    fn lower(&mut self, x: &mut [T]) {
+        self.solve_lower_in_place(x)
+            .expect("vector length equals the factor dimension");
+    }
+
+    fn upper(&mut self, x: &mut [T]) {
+        self.solve_upper_in_place(x)
+            .expect("vector length equals the factor dimension");
+    }
+}
+
+impl<T: Scalar<Real = f64>> MatVec<T> for SparseMatrix<T> {
+    fn mul(&self, x: &[T], y: &mut [T]) {
+        self.mul_vec(x, y)
+            .expect("vector lengths equal the matrix dimension");
+    }
+}
+
+impl<E: ComplexField + Scalar<Real = f64>> MatVec<E> for SparseColMat<usize, E> {
+    fn mul(&self, x: &[E], y: &mut [E]) {
+        let n = x.len();
+        sparse_dense_matmul(
+            MatMut::from_column_major_slice_mut(y, n, 1),
+            Accum::Replace,
+            self.as_ref(),
+            MatRef::from_column_major_slice(x, n, 1),
+            E::from_real(1.0),
+            Par::Seq,
+        );
+    }
+}
+
+/// faer's supernodal sparse Cholesky `P S Pᵀ = L Lᴴ` of an embedded `S`, with the half-solves
+/// `C⁻¹ = L⁻¹ P` and `C⁻ᴴ = Pᵀ L⁻ᴴ` (`C = Pᵀ L`).
+pub struct FaerCholesky<E> {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<E>,
+    perm: Vec<usize>,
+    permuted: Vec<E>,
+    mem: MemBuffer,
+}
+
+impl<E> std::fmt::Debug for FaerCholesky<E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FaerCholesky")
+            .field("n", &self.perm.len())
+            .field("factor_entries", &self.values.len())
+            .finish()
+    }
+}
+
+impl<E: ComplexField + Scalar<Real = f64>> FaerCholesky<E> {
+    /// Symbolic analysis (AMD, forced supernodal) and numeric `LLᴴ` of `s` (lower triangle
+    /// read), sequential.
+    pub fn factorize(s: &SparseColMat<usize, E>) -> Result<Self, String> {
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(s.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
+                .map_err(|e| format!("{e:?}"))?;
+        let mut values = vec![E::default(); symbolic.len_val()];
+        let mut mem = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<E>(Par::Seq, Default::default()),
+        );
+        symbolic
+            .factorize_numeric_llt(
+                &mut values,
+                s.as_ref(),
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .map_err(|e| format!("{e:?}"))?;
+        let n = s.nrows();
+        let perm = match symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        Ok(Self {
+            mem: MemBuffer::new(symbolic.solve_in_place_scratch::<E>(1, Par::Seq)),
+            symbolic,
+            values,
+            perm,
+            permuted: vec![E::default(); n],
+        })
+    }
+
+    fn supernodal(&self) -> SupernodalLltRef<'_, usize, E> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(sn) => SupernodalLltRef::new(sn, &self.values),
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                unreachable!("the analysis forces the supernodal structure")
+            }
+        }
+    }
+}
+
+impl<E: ComplexField + Scalar<Real = f64>> Factor<E> for FaerCholesky<E> {
+    fn lower(&mut self, x: &mut [E]) {
+        let n = x.len();
+        let mut permuted = std::mem::take(&mut self.permuted);
+        for (dst, &old) in permuted.iter_mut().zip(&self.perm) {
+            *dst = x[old];
+        }
+        let mut mem = std::mem::replace(
+            &mut self.mem,
+            MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+        );
+        self.supernodal().l_solve_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut permuted, n, 1),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+        self.mem = mem;
+        x.copy_from_slice(&permuted);
+        self.permuted = permuted;
+    }
+
+    fn upper(&mut self, x: &mut [E]) {
+        let n = x.len();
+        let mut mem = std::mem::replace(
+            &mut self.mem,
+            MemBuffer::new(faer::dyn_stack::StackReq::EMPTY),
+        );
+        self.supernodal().l_transpose_solve_with_conj(
+            Conj::Yes,
+            MatMut::from_column_major_slice_mut(x, n, 1),
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+        self.mem = mem;
+        let mut permuted = std::mem::take(&mut self.permuted);
+        permuted.copy_from_slice(x);
+        for (&v, &old) in permuted.iter().zip(&self.perm) {
+            x[old] = v;
+        }
+        self.permuted = permuted;
+    }
+}
+
+/// The native representation: the matrices as given, `qsparse`'s supernodal Cholesky.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Native;
+
+/// The real `REAL_DIM n` embedding with left-multiplication blocks, faer's Cholesky.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RealBlock;
+
+/// The complex `COMPLEX_DIM n` adjoint embedding, faer's Cholesky.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ComplexAdjoint;
+
+/// The operator of the [`Native`] backend.
+pub type NativeOperator<T> = FactoredPencil<T, SparseCholesky<T>, SparseMatrix<T>>;
+/// The operator of the [`RealBlock`] backend.
+pub type RealBlockOperator = FactoredPencil<f64, FaerCholesky<f64>, SparseColMat<usize, f64>>;
+/// The operator of the [`ComplexAdjoint`] backend.
+pub type ComplexAdjointOperator = FactoredPencil<c64, FaerCholesky<c64>, SparseColMat<usize, c64>>;
+
+impl<T: Scalar<Real = f64>> Backend<T> for Native {
+    type Field = T;
+    type Operator = NativeOperator<T>;
+    const COPIES: usize = 1;
+
+    fn name(&self) -> &'static str {
+        "native"
+    }
+
+    fn prepare(
+        &self,
+        k: &SparseMatrix<T>,
+        s: &SparseMatrix<T>,
+    ) -> Result<Self::Operator, EigError<T>> {
+        let factor = SparseCholesky::factorize(s)?;
+        Ok(FactoredPencil::new(factor, k.clone(), s.clone(), s.nrows()))
+    }
+
+    fn embed(&self, x: &[T]) -> Vec<T> {
+        x.to_vec()
+    }
+
+    fn extract(&self, y: &[T]) -> Vec<Vec<T>> {
+        vec![y.to_vec()]
+    }
+}
+
+impl<T: Scalar<Real = f64>> Backend<T> for RealBlock {
+    type Field = f64;
+    type Operator = RealBlockOperator;
+    const COPIES: usize = T::REAL_DIM;
+
+    fn name(&self) -> &'static str {
+        "real-block"
+    }
+
+    fn prepare(
+        &self,
+        k: &SparseMatrix<T>,
+        s: &SparseMatrix<T>,
+    ) -> Result<Self::Operator, EigError<T>> {
+        let s_block = s.to_real_block();
+        let factor = FaerCholesky::factorize(&s_block).map_err(EigError::EmbeddedFactorization)?;
+        let n = s_block.nrows();
+        Ok(FactoredPencil::new(factor, k.to_real_block(), s_block, n))
+    }
+
+    fn embed(&self, x: &[T]) -> Vec<f64> {
+        T::as_reals(x).to_vec()
+    }
+
+    fn extract(&self, y: &[f64]) -> Vec<Vec<T>> {
+        let mut x = vec![T::zero(); y.len() / T::REAL_DIM];
+        T::as_reals_mut(&mut x).copy_from_slice(y);
+        vec![x]
+    }
+}
+
+impl<T: Scalar<Real = f64>> Backend<T> for ComplexAdjoint {
+    type Field = c64;
+    type Operator = ComplexAdjointOperator;
+    const COPIES: usize = T::COMPLEX_DIM;
+
+    fn name(&self) -> &'static str {
+        "complex-adjoint"
+    }
+
+    fn prepare(
+        &self,
+        k: &SparseMatrix<T>,
+        s: &SparseMatrix<T>,
+    ) -> Result<Self::Operator, EigError<T>> {
+        let s_adjoint = s.to_complex_adjoint();
+        let factor =
+            FaerCholesky::factorize(&s_adjoint).map_err(EigError::EmbeddedFactorization)?;
+        let n = s_adjoint.nrows();
+        Ok(FactoredPencil::new(
+            factor,
+            k.to_complex_adjoint(),
+            s_adjoint,
+            n,
+        ))
+    }
+
+    fn embed(&self, x: &[T]) -> Vec<c64> {
+        complex_adjoint_vector(x)
+    }
+
+    fn extract(&self, y: &[c64]) -> Vec<Vec<T>> {
+        if T::REAL_DIM == 1 {
+            let imaginary: Vec<c64> = y.iter().map(|z| c64::new(z.im, 0.0)).collect();
+            vec![
+                from_complex_adjoint_vector(y),
+                from_complex_adjoint_vector(&imaginary),
+            ]
+        } else {
+            vec![from_complex_adjoint_vector(y)]
+        }
+    }
+}

@@ -1,0 +1,68 @@
+//! Results and statistics of an eigensolve.
+
+use std::time::Duration;
+
+/// Eigenpairs of a Hermitian-definite pencil, `K xᵢ = μᵢ S xᵢ` (`μᵢ` real), with statistics.
+///
+/// * `values[i]` is `μᵢ`, ordered by the selection rule: largest magnitude first
+///   ([`crate::Which::LargestMagnitude`]), largest first ([`crate::Which::LargestAlgebraic`]),
+///   smallest first ([`crate::Which::SmallestAlgebraic`]).
+/// * `vectors[i]` is `xᵢ`, `S`-orthonormal: `xᵢᴴ S xⱼ = δᵢⱼ` (quaternionic inner product
+///   `⟨x, y⟩ = Σ conj(xₗ) yₗ`). A quaternionic eigenvector is defined up to a unit scalar on the
+///   right, `xᵢ q` with `|q| = 1`; no phase is imposed.
+/// * `residuals[i]` is the relative residual `‖K xᵢ − μᵢ S xᵢ‖ / (|μᵢ| ‖S xᵢ‖)` (Euclidean
+///   norms), recomputed from the returned pair.
+#[derive(Debug, Clone)]
+pub struct Eigen<T> {
+    /// Eigenvalues `μᵢ`.
+    pub values: Vec<f64>,
+    /// Eigenvectors `xᵢ`, `S`-orthonormal.
+    pub vectors: Vec<Vec<T>>,
+    /// Relative residuals.
+    pub residuals: Vec<f64>,
+    /// Counts and timings of the run.
+    pub statistics: Statistics,
+}
+
+/// Counts and timings of one eigensolve.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Statistics {
+    /// Lanczos steps (each one operator application plus orthogonalisation).
+    pub iterations: usize,
+    /// Thick restarts (Rayleigh–Ritz on the projected matrix followed by locking).
+    pub restarts: usize,
+    /// Rounds: Krylov sequences started from a fresh random vector (the first one, and each
+    /// search for missing copies of multiple eigenvalues; see the crate documentation).
+    pub rounds: usize,
+    /// Applications of the operator `C⁻¹ K C⁻ᴴ`.
+    pub operator_applications: usize,
+    /// Triangular solves with `C` or `Cᴴ` (two per operator application, plus one per
+    /// eigenvector mapped back and per residual checked).
+    pub solves: usize,
+    /// Pairs locked by the iteration (in the iteration space: for the embedded backends
+    /// every quaternionic pair is found up to 4 or 2 times).
+    pub locked: usize,
+    /// Symbolic analysis and numeric factorisation of `S`.
+    pub factorization_time: Duration,
+    /// Time in triangular solves.
+    pub solve_time: Duration,
+    /// Time in Gram–Schmidt orthogonalisation and basis updates at restarts.
+    pub orthogonalization_time: Duration,
+    /// Wall-clock time of the whole solve.
+    pub total_time: Duration,
+}
+
+/// What a progress callback sees after every restart.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// Current round (1-based).
+    pub round: usize,
+    /// Restarts so far.
+    pub restarts: usize,
+    /// Operator applications so far.
+    pub operator_applications: usize,
+    /// Pairs locked so far (iteration space).
+    pub locked: usize,
+    /// Pairs wanted (iteration space).
+    pub wanted: usize,
+}

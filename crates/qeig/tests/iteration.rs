@@ -1,0 +1,246 @@
+//! Deflation, locking, the non-convergence path, both-ends selection, progress reporting and
+//! bad input, against dense truth.
+
+mod common;
+
+use common::{Rng, columns, dense_truth, distance_to_span, random_hermitian, random_hpd, s_inner};
+use qeig::{ComplexAdjoint, EigError, LanczosOptions, Native, Pencil, RealBlock, Which};
+use qscalar::{Quat, Scalar};
+use qsparse::SparseMatrix;
+
+type Q = Quat<f64>;
+
+fn pencil(seed: u64, n: usize) -> (SparseMatrix<Q>, SparseMatrix<Q>) {
+    let mut rng = Rng::new(seed);
+    (
+        random_hermitian(n, 3, 0.0, &mut rng),
+        random_hpd(n, &mut rng),
+    )
+}
+
+fn by_magnitude(values: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| values[b].abs().total_cmp(&values[a].abs()));
+    order
+}
+
+#[test]
+fn deflating_eigenvectors_removes_them() {
+    let (k_mat, s_mat) = pencil(31, 50);
+    let truth = dense_truth(&k_mat, &s_mat);
+    let order = by_magnitude(&truth.values);
+    // Deflate the two dominant eigenvectors (multiplied by arbitrary quaternions on the right:
+    // the quaternionic span is what counts).
+    let q = Quat::new(0.3, -1.0, 0.5, 2.0);
+    let deflation: Vec<Vec<Q>> = columns(&truth.vectors, &order[..2])
+        .into_iter()
+        .map(|v| v.into_iter().map(|x| x * q).collect())
+        .collect();
+    let eig = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .with_deflation(deflation.clone())
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(4, Which::LargestMagnitude))
+        .unwrap();
+    for (i, &mu) in eig.values.iter().enumerate() {
+        let want = truth.values[order[i + 2]];
+        assert!((mu - want).abs() < 1e-9 * want.abs(), "{mu} vs {want}");
+        for d in &deflation {
+            assert!(s_inner(&s_mat, d, &eig.vectors[i]).abs() < 1e-8);
+        }
+    }
+}
+
+#[test]
+fn locking_allows_more_pairs_than_the_basis_holds() {
+    let (k_mat, s_mat) = pencil(41, 80);
+    let truth = dense_truth(&k_mat, &s_mat);
+    let order = by_magnitude(&truth.values);
+    let k = 14;
+    let options = LanczosOptions {
+        max_dim: 8,
+        ..LanczosOptions::new(k, Which::LargestMagnitude)
+    };
+    let eig = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve(&Native, &options)
+        .unwrap();
+    assert!(eig.statistics.locked >= k && eig.statistics.restarts > 1);
+    let scale = truth.values[order[0]].abs();
+    for (i, &mu) in eig.values.iter().enumerate() {
+        let want = truth.values[order[i]];
+        assert!((mu - want).abs() < 1e-9 * scale, "{i}: {mu} vs {want}");
+        let space: Vec<usize> = (0..truth.values.len())
+            .filter(|&j| (truth.values[j] - mu).abs() < 1e-6 * scale)
+            .collect();
+        assert!(distance_to_span(&s_mat, &eig.vectors[i], &columns(&truth.vectors, &space)) < 1e-6);
+    }
+}
+
+#[test]
+fn non_convergence_returns_converged_pairs_and_statistics() {
+    let (k_mat, s_mat) = pencil(51, 120);
+    let truth = dense_truth(&k_mat, &s_mat);
+    let limit = 40;
+    let options = LanczosOptions {
+        max_dim: 12,
+        max_operator_applications: limit,
+        ..LanczosOptions::new(20, Which::LargestMagnitude)
+    };
+    match Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve(&Native, &options)
+    {
+        Err(EigError::NotConverged { wanted, partial }) => {
+            assert_eq!(wanted, 20);
+            assert!(partial.values.len() < 20);
+            assert!(partial.statistics.operator_applications <= limit);
+            assert!(partial.statistics.iterations > 0);
+            // Whatever converged is a true eigenpair.
+            for (&mu, r) in partial.values.iter().zip(&partial.residuals) {
+                assert!(*r <= 1e-9);
+                assert!(
+                    truth
+                        .values
+                        .iter()
+                        .any(|&t| (t - mu).abs() < 1e-8 * t.abs())
+                );
+            }
+        }
+        other => panic!("expected NotConverged, got {other:?}"),
+    }
+}
+
+#[test]
+fn largest_magnitude_takes_both_ends() {
+    // K indefinite with a spectrum symmetric-ish about 0: the wanted window must mix signs.
+    let (k_mat, s_mat) = pencil(61, 70);
+    let truth = dense_truth(&k_mat, &s_mat);
+    let order = by_magnitude(&truth.values);
+    let k = 10;
+    let expected: Vec<f64> = order[..k].iter().map(|&i| truth.values[i]).collect();
+    assert!(expected.iter().any(|&v| v > 0.0) && expected.iter().any(|&v| v < 0.0));
+    for eig in [
+        Pencil::new(&k_mat, &s_mat)
+            .unwrap()
+            .solve(&Native, &LanczosOptions::new(k, Which::LargestMagnitude)),
+        Pencil::new(&k_mat, &s_mat)
+            .unwrap()
+            .solve(&RealBlock, &LanczosOptions::new(k, Which::LargestMagnitude)),
+        Pencil::new(&k_mat, &s_mat).unwrap().solve(
+            &ComplexAdjoint,
+            &LanczosOptions::new(k, Which::LargestMagnitude),
+        ),
+    ] {
+        let eig = eig.unwrap();
+        for (got, want) in eig.values.iter().zip(&expected) {
+            assert!((got - want).abs() < 1e-9 * want.abs(), "{got} vs {want}");
+        }
+    }
+}
+
+#[test]
+fn progress_is_reported() {
+    let (k_mat, s_mat) = pencil(71, 60);
+    let mut calls = Vec::new();
+    let mut callback = |p: &qeig::Progress| calls.push(*p);
+    let eig = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve_with_progress(
+            &Native,
+            &LanczosOptions::new(5, Which::LargestAlgebraic),
+            Some(&mut callback),
+        )
+        .unwrap();
+    assert_eq!(calls.len(), eig.statistics.restarts);
+    assert!(
+        calls
+            .windows(2)
+            .all(|w| w[0].operator_applications <= w[1].operator_applications)
+    );
+    assert_eq!(calls.last().unwrap().wanted, 5);
+}
+
+#[test]
+fn same_seed_same_result() {
+    let (k_mat, s_mat) = pencil(81, 50);
+    let options = LanczosOptions::new(4, Which::LargestMagnitude);
+    let a = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve(&Native, &options)
+        .unwrap();
+    let b = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve(&Native, &options)
+        .unwrap();
+    assert_eq!(a.values, b.values);
+    assert_eq!(a.vectors, b.vectors);
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let (k_mat, s_mat) = pencil(91, 20);
+    let p = Pencil::new(&k_mat, &s_mat).unwrap();
+    let opts = |k| LanczosOptions::new(k, Which::LargestMagnitude);
+    assert!(matches!(
+        p.solve(&Native, &opts(0)),
+        Err(EigError::InvalidCount { .. })
+    ));
+    assert!(matches!(
+        p.solve(&Native, &opts(21)),
+        Err(EigError::InvalidCount { .. })
+    ));
+    let bad_tol = LanczosOptions {
+        tolerance: 0.0,
+        ..opts(2)
+    };
+    assert!(matches!(
+        p.solve(&Native, &bad_tol),
+        Err(EigError::InvalidOption(_))
+    ));
+    let rect = SparseMatrix::<Q>::zeros(20, 19);
+    assert!(matches!(
+        Pencil::new(&rect, &s_mat),
+        Err(EigError::NotSquare { .. })
+    ));
+    let small = SparseMatrix::<Q>::identity(19);
+    assert!(matches!(
+        Pencil::new(&small, &s_mat),
+        Err(EigError::DimensionMismatch { .. })
+    ));
+    assert!(matches!(
+        p.clone().with_deflation(vec![vec![Q::from_real(1.0); 3]]),
+        Err(EigError::DimensionMismatch { .. })
+    ));
+    // S indefinite: the factorisation error of each backend.
+    let indefinite = SparseMatrix::from_diagonal(&[Q::from_real(1.0), Q::from_real(-1.0)]);
+    let k2 = SparseMatrix::<Q>::identity(2);
+    let p2 = Pencil::new(&k2, &indefinite).unwrap();
+    assert!(matches!(
+        p2.solve(&Native, &opts(1)),
+        Err(EigError::Factorization(_))
+    ));
+    assert!(matches!(
+        p2.solve(&RealBlock, &opts(1)),
+        Err(EigError::EmbeddedFactorization(_))
+    ));
+    assert!(matches!(
+        p2.solve(&ComplexAdjoint, &opts(1)),
+        Err(EigError::EmbeddedFactorization(_))
+    ));
+}
+
+#[test]
+fn small_problem_is_solved_completely() {
+    // k = n: the Krylov space exhausts the whole space.
+    let (k_mat, s_mat) = pencil(101, 12);
+    let truth = dense_truth(&k_mat, &s_mat);
+    let eig = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(12, Which::SmallestAlgebraic))
+        .unwrap();
+    let scale = truth.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for (got, want) in eig.values.iter().zip(&truth.values) {
+        assert!((got - want).abs() < 1e-9 * scale, "{got} vs {want}");
+    }
+}
