@@ -3,6 +3,7 @@
 
 pub mod eigs;
 pub mod linear;
+pub mod spectra;
 
 use std::time::Instant;
 

@@ -4,29 +4,39 @@
 //!
 //! ```text
 //! compare spmv|cholesky [--level L | --size N] [--repeats R]
-//! compare eigs [--level L] [-k K] [--repeats R]
+//! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R]
+//!              [--operator laplace-quaternionic|relative-dirac|family] [--tau T]
 //! ```
 //!
 //! `spmv` and `cholesky` use `dirac_bench::connection_laplacian` on the unit icosphere:
 //! `--level L` gives `10·4^L + 2` quaternion unknowns, `--size N` picks the smallest level with
 //! at least `N`. `eigs` computes `K` quaternionic pairs of the quaternionic Laplacian pencil on
-//! the icosphere with every backend (`dirac_bench::eigs`).
+//! the icosphere with every backend and the real scalar Laplacian (`dirac_bench::eigs`), or,
+//! with `--operator relative-dirac|family`, the spectrum of that operator on the icosphere or
+//! `--mesh FILE` with every backend (`dirac_bench::spectra`).
 //! Defaults: `cholesky --level 4 --repeats 5` (2,562 unknowns, a few seconds), `-k 60`.
 
 use std::process::ExitCode;
 
+use dirac::generators::icosphere;
+use dirac::io::read_mesh;
+use dirac::spectrum::Operator;
 use dirac_bench::eigs::compare_eigs;
 use dirac_bench::linear::{compare_cholesky, compare_spmv};
+use dirac_bench::spectra::compare_spectrum;
 use dirac_bench::{connection_laplacian, icosphere_level_for};
 
-const USAGE: &str =
-    "usage: compare [spmv|cholesky|eigs] [--level L | --size N] [-k K] [--repeats R]";
+const USAGE: &str = "usage: compare [spmv|cholesky|eigs] [--level L | --size N | --mesh FILE] \
+                     [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family] [--tau T]";
 
 struct Options {
     case: String,
     level: u32,
     k: usize,
     repeats: usize,
+    mesh: Option<String>,
+    operator: String,
+    tau: f64,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -35,6 +45,9 @@ fn parse(args: &[String]) -> Result<Options, String> {
         level: 4,
         k: 60,
         repeats: 5,
+        mesh: None,
+        operator: "laplace-quaternionic".into(),
+        tau: 0.5,
     };
     let mut i = 0;
     while i < args.len() {
@@ -47,6 +60,18 @@ fn parse(args: &[String]) -> Result<Options, String> {
             "--size" => {
                 let size: usize = value(i)?.parse().map_err(|e| format!("--size: {e}"))?;
                 options.level = icosphere_level_for(size);
+                i += 1;
+            }
+            "--mesh" => {
+                options.mesh = Some(value(i)?.clone());
+                i += 1;
+            }
+            "--operator" => {
+                options.operator = value(i)?.clone();
+                i += 1;
+            }
+            "--tau" => {
+                options.tau = value(i)?.parse().map_err(|e| format!("--tau: {e}"))?;
                 i += 1;
             }
             "-k" => {
@@ -72,6 +97,29 @@ fn parse(args: &[String]) -> Result<Options, String> {
     Ok(options)
 }
 
+/// `compare eigs --operator relative-dirac|family` on `--mesh FILE` or the icosphere.
+fn operator_spectrum(options: &Options) -> Result<serde_json::Value, String> {
+    let operator = match options.operator.as_str() {
+        "relative-dirac" => Operator::RelativeDirac,
+        "family" => Operator::Family { tau: options.tau },
+        other => return Err(format!("unknown operator {other}\n{USAGE}")),
+    };
+    let (mesh, label) = match &options.mesh {
+        Some(path) => (read_mesh(path).map_err(|e| e.to_string())?, path.clone()),
+        None => (
+            icosphere(options.level),
+            format!("icosphere level {}", options.level),
+        ),
+    };
+    Ok(compare_spectrum(
+        &mesh,
+        &label,
+        operator,
+        options.k,
+        options.repeats,
+    ))
+}
+
 fn main() -> ExitCode {
     faer::set_global_parallelism(faer::Par::Seq);
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -85,7 +133,16 @@ fn main() -> ExitCode {
     let report = match options.case.as_str() {
         "spmv" => compare_spmv(&connection_laplacian(options.level), options.repeats),
         "cholesky" => compare_cholesky(&connection_laplacian(options.level), options.repeats),
-        "eigs" => compare_eigs(options.level, options.k, options.repeats),
+        "eigs" if options.operator == "laplace-quaternionic" => {
+            compare_eigs(options.level, options.k, options.repeats)
+        }
+        "eigs" => match operator_spectrum(&options) {
+            Ok(report) => report,
+            Err(message) => {
+                eprintln!("{message}");
+                return ExitCode::FAILURE;
+            }
+        },
         other => {
             eprintln!("unknown case {other}\n{USAGE}");
             return ExitCode::from(2);

@@ -3,16 +3,20 @@
 //!
 //! | operator | pencil solved | reported `λ` |
 //! |---|---|---|
-//! | Laplace | `M x = μ (L + εM) x`, constants deflated (real scalar problem) | `1/μ − ε`; `0` for the constants |
-//! | relative / extrinsic Dirac | `G x = μ (A + εM) x` | `x*Ax / x*Gx` (signed) |
-//! | family `L(τ)`, blended | `B_τ x = μ (A_τ + εM) x`, constants deflated | `x*A_τx / x*B_τx`; `0` for the constants |
+//! | Laplace | `M x = μ (L + εM) x` (`L⊗I`), constants deflated | `1/μ − ε`; `0` for the constants |
+//! | relative / extrinsic Dirac | `G x = μ (A + εM) x`; on a boundary `𝟙` and `S⁻¹G𝟙` deflated | `x*Ax / x*Gx` (signed) |
+//! | family `L(τ)`, blended | `B_τ x = μ (A_τ + εM) x`, `S⁻¹B_τ𝟙` deflated | `x*A_τx / x*B_τx`; `0` for the constants |
 //! | family, literal | `M x = μ (K(τ) + σM) x`, `K(τ) = (1−τ)L + τG` | `1/μ − σ` |
 //! | squared `D_N* D_N` | `M x = μ (A + εM) x`, constants deflated | `1/μ − ε`; `0` for the constants |
 //!
 //! with `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M`, and `ε`
-//! a regularisation `10⁻⁶` times the largest diagonal ratio of the stiffness to `M` (it never
-//! changes a reported `λ`: Dirac-type values are Rayleigh quotients of the returned vectors, the
-//! others are shifted back exactly). `σ` is a Gershgorin bound that makes `K(τ) + σM` positive
+//! a regularisation `10⁻¹⁰` times the largest diagonal ratio of the stiffness to `M`. The shifted
+//! pencils are mapped back exactly. For the Rayleigh pencils `ε` changes the selection
+//! (`|μ| = |x*Kx| / (x*Ax + ε x*Mx)`) and, to second order, the vectors, so after solving every
+//! returned pair must have `ε x*Mx ≤ 10⁻⁸ x*Ax`, otherwise `ε` is divided by `10⁴` and the
+//! pencil solved again (at most three times). Deflating `S⁻¹K𝟙` imposes the exact constraint
+//! `𝟙*Kx = 0` that every eigenvector with `λ ≠ 0` satisfies when the stiffness annihilates the
+//! constants; on closed meshes `S⁻¹B_τ𝟙 ∝ 𝟙` and `G𝟙 = 0`. `σ` is a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite; the literal family then collects eigenvalues from the bottom of the spectrum until
 //! the `k` of smallest `|λ|` are certain.
 //!
@@ -27,7 +31,7 @@ use qeig::{
     Statistics, Which,
 };
 use qscalar::{Quat, Scalar};
-use qsparse::{SparseMatrix, vector};
+use qsparse::{CholeskyError, SparseCholesky, SparseMatrix, vector};
 use thiserror::Error;
 
 use crate::TriMesh;
@@ -77,8 +81,10 @@ pub enum Normalization {
     /// Use the mesh as given.
     #[default]
     None,
-    /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Eigenvalues of `D_N`, `Δ`
-    /// and `L(τ)` scale as `1/s²`, those of `D_f` as `1/s`.
+    /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Scaling a mesh by `s`
+    /// multiplies the eigenvalues of `D_N`, `Δ` and the literal `L(τ)` by `1/s²`, of `D_f` by
+    /// `1/s` and of `D_N* D_N` by `1/s⁴`. The blended `L(τ)` is not homogeneous: its values
+    /// at scale `s` are those at scale 1 for `τ' = τ/(τ + (1−τ)s²)`, divided by `s²`.
     UnitArea,
 }
 
@@ -154,6 +160,9 @@ pub enum SpectrumError {
     /// The potential well could not be computed.
     #[error(transparent)]
     Well(#[from] WellError),
+    /// A factorisation needed to set up the pencil failed.
+    #[error(transparent)]
+    Factorization(#[from] CholeskyError),
     /// The eigensolver failed.
     #[error("eigensolver: {0}")]
     Eigen(String),
@@ -215,8 +224,8 @@ pub fn spectrum_with_progress(
     };
     let masses = barycentric_masses(mesh);
     let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
-    let deflate_constants = potential.is_none();
-    let constants = || vec![vec![Quat::from_real(1.0); n]];
+    // Without a well the constants are an exact zero mode of every stiffness matrix.
+    let constant_mode = potential.is_none();
     let mass = quaternionic(&SparseMatrix::from_diagonal(&masses));
     let progress = &mut progress;
 
@@ -253,24 +262,44 @@ pub fn spectrum_with_progress(
         Operator::Laplace | Operator::Family { tau: 0.0 } => {
             let stiffness = quaternionic(&laplacian()?);
             let epsilon = regularize(&stiffness);
-            let deflation = deflate_constants.then(constants);
             shifted_spectrum(
-                epsilon, options, &stiffness, &mass, &masses, deflation, progress,
+                epsilon,
+                options,
+                &stiffness,
+                &mass,
+                &masses,
+                constant_mode,
+                progress,
             )?
         }
         Operator::Squared => {
             let stiffness = dirac_pencil(true)?.stiffness;
             let epsilon = regularize(&stiffness);
-            let deflation = deflate_constants.then(constants);
             shifted_spectrum(
-                epsilon, options, &stiffness, &mass, &masses, deflation, progress,
+                epsilon,
+                options,
+                &stiffness,
+                &mass,
+                &masses,
+                constant_mode,
+                progress,
             )?
         }
         Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Family { tau: 1.0 } => {
             let pencil = dirac_pencil(options.operator != Operator::ExtrinsicDirac)?;
             let epsilon = regularize(&pencil.stiffness);
             let (a, g) = (&pencil.stiffness, &pencil.coupling);
-            rayleigh_spectrum(epsilon, options, a, g, &mass, &masses, None, progress)?
+            rayleigh_spectrum(
+                epsilon,
+                options,
+                a,
+                g,
+                &mass,
+                &masses,
+                constant_mode,
+                false,
+                progress,
+            )?
         }
         Operator::Family { tau } => {
             let pencil = dirac_pencil(true)?;
@@ -278,9 +307,17 @@ pub fn spectrum_with_progress(
             let stiffness = blend(tau, &pencil.stiffness, &l)?;
             let coupling = blend(tau, &pencil.coupling, &mass)?;
             let epsilon = regularize(&stiffness);
-            let deflation = deflate_constants.then(constants);
+            let (a, b) = (&stiffness, &coupling);
             rayleigh_spectrum(
-                epsilon, options, &stiffness, &coupling, &mass, &masses, deflation, progress,
+                epsilon,
+                options,
+                a,
+                b,
+                &mass,
+                &masses,
+                constant_mode,
+                true,
+                progress,
             )?
         }
         Operator::FamilyLiteral { tau } => {
@@ -321,16 +358,15 @@ fn scaled_mesh(mesh: &TriMesh, s: f64) -> TriMesh {
         .expect("scaling by s > 0 keeps a valid mesh valid")
 }
 
-/// `ε = 10⁻⁶ · max_p S_pp / M_pp` (or `10⁻⁶` if the stiffness vanishes). The ratio is about
-/// the largest eigenvalue, so `ε` sits far below the wanted small ones while keeping the
-/// deflated constants' `μ = 1/ε` within a factor ~10⁶·n of the rest: round-off leaking into
-/// them is not amplified beyond what the tolerance allows (`10⁻¹⁰` was too small for that).
+/// `ε = 10⁻¹⁰ · max_p S_pp / M_pp` (or `10⁻¹⁰` if the stiffness vanishes). The ratio is about
+/// the largest eigenvalue of the stiffness, so `ε` sits far below the wanted small ones; the
+/// Rayleigh pencils check this after solving and reduce `ε` if needed.
 fn regularization(stiffness: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
     let largest = (0..masses.len())
         .map(|p| stiffness.get(p, p).re() / masses[p])
         .filter(|r| r.is_finite())
         .fold(0.0, f64::max);
-    1e-6 * if largest > 0.0 { largest } else { 1.0 }
+    1e-10 * if largest > 0.0 { largest } else { 1.0 }
 }
 
 /// `ε` of the operator without the potential well: the well's wall (entries up to `c`, or `c²`
@@ -420,26 +456,25 @@ fn with_constant_mode(masses: &[f64], mapped: Mapped) -> Mapped {
     (values, vectors, residuals, statistics, complete)
 }
 
-/// Solves `K x = μ S x` for the wanted pairs and maps them to `λ` with `to_lambda(μ, x)`. With
-/// `constants` deflated, one pair fewer is computed and the exact constant mode `λ = 0` is
-/// prepended.
+/// Solves `K x = μ S x` for the wanted pairs, `S`-orthogonal to `deflation`, and maps them to
+/// `λ` with `to_lambda(μ, x)`. With `constant_mode`, one pair fewer is computed and the exact
+/// constant mode `λ = 0` is prepended.
 #[allow(clippy::too_many_arguments)]
 fn solve_mapped(
     options: &SpectrumOptions,
     k_matrix: &SparseMatrix<Quat<f64>>,
     s_matrix: &SparseMatrix<Quat<f64>>,
     masses: &[f64],
-    constants: Option<Vec<Vec<Quat<f64>>>>,
+    deflation: Vec<Vec<Quat<f64>>>,
+    constant_mode: bool,
     which: Which,
     progress: &mut Option<&mut dyn FnMut(&Progress)>,
     to_lambda: impl Fn(f64, &[Quat<f64>]) -> f64,
 ) -> Result<Mapped, SpectrumError> {
-    let deflated = constants.is_some();
-    let count = options.k - usize::from(deflated);
+    let count = options.k - usize::from(constant_mode);
     let mapped = if count == 0 {
         (vec![], vec![], vec![], Statistics::default(), true)
     } else {
-        let deflation = constants.unwrap_or_default();
         let ((mu, vectors, residuals, statistics), complete) = split(solve_pencil(
             options, k_matrix, s_matrix, deflation, count, which, progress,
         )?);
@@ -450,37 +485,61 @@ fn solve_mapped(
             .collect();
         (values, vectors, residuals, statistics, complete)
     };
-    Ok(if deflated {
+    Ok(if constant_mode {
         with_constant_mode(masses, mapped)
     } else {
         mapped
     })
 }
 
-/// Pencils `M x = μ (S + εM) x` with `λ = 1/μ − ε` (Laplace, squared Dirac).
+/// `K 𝟙`.
+fn image_of_constants(k_matrix: &SparseMatrix<Quat<f64>>) -> Result<Vec<Quat<f64>>, SpectrumError> {
+    let n = k_matrix.nrows();
+    let mut image = vec![Quat::default(); n];
+    k_matrix
+        .mul_vec(&vec![Quat::from_real(1.0); n], &mut image)
+        .map_err(OperatorError::from)?;
+    Ok(image)
+}
+
+/// Pencils `M x = μ (S + εM) x` with `λ = 1/μ − ε` (Laplace, squared Dirac). The constants
+/// (`S 𝟙 = 0`) are deflated directly: `S⁻¹ M 𝟙 = 𝟙/ε`.
 fn shifted_spectrum(
     epsilon: f64,
     options: &SpectrumOptions,
     stiffness: &SparseMatrix<Quat<f64>>,
     mass: &SparseMatrix<Quat<f64>>,
     masses: &[f64],
-    constants: Option<Vec<Vec<Quat<f64>>>>,
+    constant_mode: bool,
     progress: &mut Option<&mut dyn FnMut(&Progress)>,
 ) -> Result<Mapped, SpectrumError> {
     let s = plus_mass(stiffness, epsilon, mass)?;
+    let deflation = if constant_mode {
+        vec![vec![Quat::from_real(1.0); masses.len()]]
+    } else {
+        vec![]
+    };
     solve_mapped(
         options,
         mass,
         &s,
         masses,
-        constants,
+        deflation,
+        constant_mode,
         Which::LargestAlgebraic,
         progress,
         |mu, _| 1.0 / mu - epsilon,
     )
 }
 
-/// Pencils `G x = μ (A + εM) x` with `λ = x*Ax / x*Gx` (Dirac operators, blended family).
+/// Pencils `K x = μ (A + εM) x` with `λ = x*Ax / x*Kx`: `K = G` (Dirac operators) or
+/// `K = B_τ` (blended family, `reports_constant`: the constants are an eigenpair with `λ = 0`).
+///
+/// When `A 𝟙 = 0` the other eigenvectors satisfy `𝟙* K x = 0`, imposed through
+/// `S⁻¹ K 𝟙`. For `K = G` the constant itself is no eigenpair (`0/0`) and is deflated, which
+/// fixes the otherwise arbitrary constant component of the eigenvectors; on a mesh with
+/// boundary `G 𝟙 ≠ 0` and the pencil is defective at `λ = 0` (the regularisation would split it
+/// into a spurious pair `±O(√ε)`), so `S⁻¹ G 𝟙` is deflated too.
 #[allow(clippy::too_many_arguments)]
 fn rayleigh_spectrum(
     epsilon: f64,
@@ -489,20 +548,83 @@ fn rayleigh_spectrum(
     coupling: &SparseMatrix<Quat<f64>>,
     mass: &SparseMatrix<Quat<f64>>,
     masses: &[f64],
-    constants: Option<Vec<Vec<Quat<f64>>>>,
+    constants_in_kernel: bool,
+    reports_constant: bool,
     progress: &mut Option<&mut dyn FnMut(&Progress)>,
 ) -> Result<Mapped, SpectrumError> {
-    let s = plus_mass(stiffness, epsilon, mass)?;
-    solve_mapped(
-        options,
-        coupling,
-        &s,
-        masses,
-        constants,
-        Which::LargestMagnitude,
-        progress,
-        |_, x| rayleigh_quotient(stiffness, x) / rayleigh_quotient(coupling, x),
-    )
+    // The pencil selects the largest |μ| = |x*Kx| / (x*Ax + ε x*Mx): ε must be negligible
+    // against x*Ax for the wanted pairs, or it reorders them. ε starts far below the largest
+    // diagonal ratio (≈ λ_max²) and is reduced while it is not negligible for a returned pair.
+    let constant_mode = constants_in_kernel && reports_constant;
+    let mut epsilon = epsilon;
+    let mut attempt = 0;
+    loop {
+        let s = plus_mass(stiffness, epsilon, mass)?;
+        let mut deflation = Vec::new();
+        if constants_in_kernel {
+            if reports_constant {
+                // `S⁻¹ B_τ 𝟙` imposes `𝟙* B_τ x = 0` through qeig's `S`-orthogonal deflation.
+                deflation
+                    .push(SparseCholesky::factorize(&s)?.solve(&image_of_constants(coupling)?)?);
+            } else {
+                // `A 𝟙 = 0` and, on closed meshes, `G 𝟙 = 0`: eigenvectors are only defined
+                // up to constants; deflating `𝟙` picks the mass-orthogonal one (as in the
+                // continuum, ⟨𝟙, φ⟩ = ⟨D𝟙, φ⟩/λ = 0).
+                deflation.push(vec![Quat::from_real(1.0); masses.len()]);
+                let image = image_of_constants(coupling)?;
+                let entry_scale = coupling
+                    .values()
+                    .iter()
+                    .map(|q| q.norm())
+                    .fold(0.0, f64::max);
+                if image.iter().any(|q| q.norm() > 1e-10 * entry_scale) {
+                    // Boundary: `G 𝟙 ≠ 0`; impose `𝟙* G x = 0` as well.
+                    deflation.push(SparseCholesky::factorize(&s)?.solve(&image)?);
+                }
+            }
+        }
+        let mapped = solve_mapped(
+            options,
+            coupling,
+            &s,
+            masses,
+            deflation,
+            constant_mode,
+            Which::LargestMagnitude,
+            progress,
+            |_, x| rayleigh_quotient(stiffness, x) / rayleigh_quotient(coupling, x),
+        )?;
+        let mut mapped = mapped;
+        if constants_in_kernel && !reports_constant {
+            // Fix the constant component exactly: x ← x − 𝟙 ⟨𝟙, x⟩_M / ⟨𝟙, 𝟙⟩_M (the
+            // deflation above only fixes it to the accuracy of `S 𝟙 = ε M 𝟙 + A 𝟙`).
+            for x in &mut mapped.1 {
+                remove_mass_mean(masses, x);
+            }
+        }
+        let first = usize::from(constant_mode);
+        let worst = mapped.1[first..]
+            .iter()
+            .map(|x| epsilon * rayleigh_quotient(mass, x) / rayleigh_quotient(stiffness, x).abs())
+            .fold(0.0, f64::max);
+        if worst <= 1e-8 || attempt == 3 {
+            return Ok(mapped);
+        }
+        epsilon *= 1e-4;
+        attempt += 1;
+    }
+}
+
+/// `x ← x − 𝟙 ⟨𝟙, x⟩_M / ⟨𝟙, 𝟙⟩_M`: the mass-orthogonal projection away from the constants.
+fn remove_mass_mean(masses: &[f64], x: &mut [Quat<f64>]) {
+    let total: f64 = masses.iter().sum();
+    let mean = masses
+        .iter()
+        .zip(x.iter())
+        .map(|(&m, &q)| q * m)
+        .sum::<Quat<f64>>()
+        / total;
+    x.iter_mut().for_each(|q| *q -= mean);
 }
 
 /// `Re(x* A x)`.

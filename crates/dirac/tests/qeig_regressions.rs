@@ -9,7 +9,7 @@ use qeig::{LanczosOptions, Native, Pencil, Which};
 use qscalar::{Quat, Scalar};
 use qsparse::SparseMatrix;
 
-/// `M x = μ (A + εM) x` for the unit-sphere `D_N² ` stiffness `A` (positive semidefinite, kernel
+/// `M x = μ (A + εM) x` for the unit-sphere `D_N²` stiffness `A` (positive semidefinite, kernel
 /// the constants) with no deflation: `μ = 1/ε` stands alone, ten orders of magnitude above the
 /// rest, and its true residual has a rounding floor far above the tolerance. The solver must
 /// still terminate and return it, with `ν = 1/μ − ε` matching the dense eigenvalues of

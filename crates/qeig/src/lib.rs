@@ -24,6 +24,11 @@
 //! current `k`-th pair. An eigenvalue of multiplicity `m` is thus found `m` times after at
 //! most `m + 1` rounds (see [`lanczos`]).
 //!
+//! **Accuracy.** A pair is accepted when its true relative residual is below the tolerance,
+//! or when its Lanczos estimate is at the rounding level of the operator (`≤ 64 eps ‖A‖`):
+//! then no further step can improve it (ill-conditioned `S`, coupling to locked pairs), and the
+//! reported residual is the attainable one (see [`lanczos`]).
+//!
 //! **Non-convergence** returns [`EigError::NotConverged`] with the pairs that did converge and
 //! the [`Statistics`].
 //!

@@ -3,7 +3,9 @@
 //! With `S = C Cᴴ` from the backend's Cholesky, the Lanczos core runs on
 //! `A = C⁻¹ K C⁻ᴴ` (same eigenvalues `μ`; `x = C⁻ᴴ y`), `S`-orthogonal to the deflation
 //! vectors. The converged pairs are then **folded**: sorted by value, grouped into clusters
-//! (consecutive values closer than `max(100 tol, 1e−8)` relative), and in each cluster an
+//! (consecutive values closer than `max(100 tol, 1e−8)` relative plus the rounding level
+//! `64 eps maxᵢ |μᵢ|` of the operator, which bounds the spread of copies of one eigenvalue
+//! accepted at that level), and in each cluster an
 //! `S`-orthonormal quaternionic basis is extracted by pivoted Gram–Schmidt with coefficients
 //! on the right (a vector whose remaining `S`-norm is below 0.1 lies in the quaternionic span
 //! of the others: for the embedded backends these are the 4 or 2 copies `x`, `x i`, `x j`,
@@ -19,7 +21,7 @@ use qsparse::{DenseMatrix, SparseMatrix, vector};
 
 use crate::basis::{Basis, GramSchmidt, append_orthonormal, unit};
 use crate::dense::hermitian_eigen;
-use crate::lanczos::{run, validate_options};
+use crate::lanczos::{ROUNDING, run, validate_options};
 use crate::{
     Backend, EigError, Eigen, HermitianOperator, LanczosOptions, PencilOperator, Progress, Which,
 };
@@ -221,6 +223,7 @@ fn fold<T: Scalar<Real = f64>>(
 ) -> Result<Pairs<T>, EigError<T>> {
     let n = s.nrows();
     let gap = (100.0 * tol).max(1e-8);
+    let floor = ROUNDING * values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let mut vectors: Vec<Option<Vec<T>>> = vectors.into_iter().map(Some).collect();
@@ -230,7 +233,7 @@ fn fold<T: Scalar<Real = f64>>(
         let mut end = start + 1;
         while end < order.len() {
             let (a, b) = (values[order[end - 1]], values[order[end]]);
-            if b - a > gap * a.abs().max(b.abs()) {
+            if b - a > gap * a.abs().max(b.abs()) + floor {
                 break;
             }
             end += 1;

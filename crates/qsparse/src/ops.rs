@@ -30,9 +30,7 @@ impl<T: Scalar> SparseMatrix<T> {
         y.fill(T::zero());
         for (j, &xj) in x.iter().enumerate() {
             let (rows, vals) = self.col(j);
-            for (&i, &a) in rows.iter().zip(vals) {
-                y[i] += a * xj;
-            }
+            vector::scatter_axpy(y, rows, vals, xj);
         }
         Ok(())
     }

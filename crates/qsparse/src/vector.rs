@@ -91,6 +91,31 @@ unsafe fn axpy_avx2_fma<T: Scalar>(y: &mut [T], x: &[T], c: T) {
     axpy_kernel::<T, true>(y, x, c)
 }
 
+/// `y[rows[i]] ← y[rows[i]] + x[i] c`: the scattered `axpy` of a sparse column times `c`
+/// (panics if a row index is outside `y`, like slice indexing).
+pub fn scatter_axpy<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { scatter_axpy_avx2_fma(y, rows, x, c) };
+    }
+    scatter_axpy_kernel::<T, false>(y, rows, x, c)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn scatter_axpy_avx2_fma<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
+    scatter_axpy_kernel::<T, true>(y, rows, x, c)
+}
+
+#[inline(always)]
+fn scatter_axpy_kernel<T: Scalar, const FUSED: bool>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
+    let times_c = RightMultiplier::new(c);
+    for (&row, &xi) in rows.iter().zip(x) {
+        times_c.mul_add_kernel::<FUSED>(&mut y[row], xi);
+    }
+}
+
 #[inline(always)]
 fn axpy_kernel<T: Scalar, const FUSED: bool>(y: &mut [T], x: &[T], c: T) {
     let times_c = RightMultiplier::new(c);
