@@ -13,8 +13,9 @@
 //! a regularisation `10⁻¹⁰` times the largest diagonal ratio of the stiffness to `M`. The shifted
 //! pencils are mapped back exactly. For the Rayleigh pencils `ε` changes the selection
 //! (`|μ| = |x*Kx| / (x*Ax + ε x*Mx)`) and, to second order, the vectors, so after solving every
-//! returned pair must have `ε x*Mx ≤ 10⁻⁸ x*Ax`, otherwise `ε` is divided by `10⁴` and the
-//! pencil solved again (at most three times). Deflating `S⁻¹K𝟙` imposes the exact constraint
+//! returned pair must have `ε x*Mx ≤ 10⁻⁸ x*Ax`; otherwise `ε` is set to `10⁻⁹` times the
+//! smallest ratio `x*Ax / x*Mx` seen (at most `10⁻⁴` times the previous `ε`) and the pencil
+//! solved again, at most twice (statistics add up over the attempts). Deflating `S⁻¹K𝟙` imposes the exact constraint
 //! `𝟙*Kx = 0` that every eigenvector with `λ ≠ 0` satisfies when the stiffness annihilates the
 //! constants; on closed meshes `S⁻¹B_τ𝟙 ∝ 𝟙` and `G𝟙 = 0`. `σ` is a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite; the literal family then collects eigenvalues from the bottom of the spectrum until
@@ -558,6 +559,7 @@ fn rayleigh_spectrum(
     let constant_mode = constants_in_kernel && reports_constant;
     let mut epsilon = epsilon;
     let mut attempt = 0;
+    let mut statistics = Statistics::default();
     loop {
         let s = plus_mass(stiffness, epsilon, mass)?;
         let mut deflation = Vec::new();
@@ -602,17 +604,34 @@ fn rayleigh_spectrum(
                 remove_mass_mean(masses, x);
             }
         }
+        accumulate(&mut statistics, &mapped.3);
+        mapped.3 = statistics;
+        // Smallest stiffness ratio x*Ax / x*Mx among the returned pairs.
         let first = usize::from(constant_mode);
-        let worst = mapped.1[first..]
+        let smallest = mapped.1[first..]
             .iter()
-            .map(|x| epsilon * rayleigh_quotient(mass, x) / rayleigh_quotient(stiffness, x).abs())
-            .fold(0.0, f64::max);
-        if worst <= 1e-8 || attempt == 3 {
+            .map(|x| rayleigh_quotient(stiffness, x).abs() / rayleigh_quotient(mass, x))
+            .fold(f64::INFINITY, f64::min);
+        if epsilon <= 1e-8 * smallest || attempt == 2 {
             return Ok(mapped);
         }
-        epsilon *= 1e-4;
+        epsilon = (1e-9 * smallest).min(1e-4 * epsilon);
         attempt += 1;
     }
+}
+
+/// Adds the counts and times of one solve to a running total.
+fn accumulate(total: &mut Statistics, run: &Statistics) {
+    total.iterations += run.iterations;
+    total.restarts += run.restarts;
+    total.rounds += run.rounds;
+    total.operator_applications += run.operator_applications;
+    total.solves += run.solves;
+    total.locked += run.locked;
+    total.factorization_time += run.factorization_time;
+    total.solve_time += run.solve_time;
+    total.orthogonalization_time += run.orthogonalization_time;
+    total.total_time += run.total_time;
 }
 
 /// `x ← x − 𝟙 ⟨𝟙, x⟩_M / ⟨𝟙, 𝟙⟩_M`: the mass-orthogonal projection away from the constants.

@@ -134,7 +134,9 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
         coef.resize(m, V::zero());
         let before = vector::norm(w);
         let mut last = before;
+        crate::basis::CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         for _ in 0..3 {
+            crate::basis::PASSES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             self.pass(basis, m, w, coef);
             let now = vector::norm(w);
             let stop = now > std::f64::consts::FRAC_1_SQRT_2 * last;
@@ -147,6 +149,8 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
     }
 }
 
+pub(crate) static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+pub(crate) static PASSES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 /// A small deterministic generator (SplitMix64) for the seeded start vectors.
 #[derive(Debug, Clone)]
 pub(crate) struct SplitMix64(u64);

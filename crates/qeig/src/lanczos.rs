@@ -261,6 +261,7 @@ where
     let mut coef: Vec<V> = Vec::new();
     let mut ritz_block: Vec<V> = Vec::new();
     let mut limit_hit = false;
+    let mut restart_time = Duration::ZERO;
     // Largest |Ritz value| so far: a lower bound of ‖A‖ for the rounding level of estimates.
     let mut norm_estimate = 0.0f64;
 
@@ -412,6 +413,7 @@ where
                 ritz_block[cont * n..(cont + 1) * n].copy_from_slice(basis.col(base + size));
             }
             orth_time += t.elapsed();
+            restart_time += t.elapsed();
 
             let kth_before = kth_best(which, &locked, k);
             let mut newly_locked = Vec::new();
@@ -427,6 +429,7 @@ where
                 }
             }
             stats.locked = locked.len();
+            eprintln!("DBG round {} restart {} ops {} size {} cand {} newly {} locked {} kept {} check {}", stats.rounds, stats.restarts, stats.operator_applications, size, candidates.len(), newly_locked.len(), locked.len(), keep_max, check_now);
             let new_base = nd + locked.len();
             let m_new = m_max.min(n - new_base);
             // New layout: [deflation | locked (old, new) | kept | continuation].
@@ -483,6 +486,12 @@ where
         }
     }
 
+    eprintln!(
+        "DBG calls {} passes {} restart_time {:?}",
+        crate::basis::CALLS.load(std::sync::atomic::Ordering::Relaxed),
+        crate::basis::PASSES.load(std::sync::atomic::Ordering::Relaxed),
+        restart_time
+    );
     // Locked pairs, best first.
     let mut order: Vec<usize> = (0..locked.len()).collect();
     order.sort_by(|&a, &b| which.score(locked[b]).total_cmp(&which.score(locked[a])));
