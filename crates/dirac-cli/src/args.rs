@@ -77,6 +77,11 @@ pub struct SpectrumArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
 
+    /// Largest number of thick restarts of the eigensolver before it stops and reports the
+    /// pairs that converged (exit code 3).
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    pub max_restarts: usize,
+
     /// No progress display on stderr.
     #[arg(short, long)]
     pub quiet: bool,
@@ -200,6 +205,7 @@ impl SpectrumArgs {
         });
         options.tolerance = self.tolerance;
         options.seed = self.seed;
+        options.max_restarts = self.max_restarts;
         Ok(options)
     }
 }

@@ -15,7 +15,8 @@
 //! (`|μ| = |x*Kx| / (x*Ax + ε x*Mx)`) and, to second order, the vectors, so after solving every
 //! returned pair must have `ε x*Mx ≤ 10⁻⁸ x*Ax`; otherwise `ε` is set to `10⁻⁹` times the
 //! smallest ratio `x*Ax / x*Mx` seen (at most `10⁻⁴` times the previous `ε`) and the pencil
-//! solved again, at most twice (statistics add up over the attempts). Deflating `S⁻¹K𝟙` imposes the exact constraint
+//! solved again. For `k > 4` the first solve is a probe for 4 pairs that only sets `ε`
+//! (statistics add up over all solves). Deflating `S⁻¹K𝟙` imposes the exact constraint
 //! `𝟙*Kx = 0` that every eigenvector with `λ ≠ 0` satisfies when the stiffness annihilates the
 //! constants; on closed meshes `S⁻¹B_τ𝟙 ∝ 𝟙` and `G𝟙 = 0`. `σ` is a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite; the literal family then collects eigenvalues from the bottom of the spectrum until
@@ -106,11 +107,13 @@ pub struct SpectrumOptions {
     pub tolerance: f64,
     /// Seed of the eigensolver's start vectors.
     pub seed: u64,
+    /// Largest number of thick restarts of each eigensolve before it reports non-convergence.
+    pub max_restarts: usize,
 }
 
 impl SpectrumOptions {
     /// `k` eigenvalues of `operator`, native backend, no normalisation, no well, tolerance
-    /// `1e−10`.
+    /// `1e−10`, at most 1000 restarts.
     pub fn new(operator: Operator, k: usize) -> Self {
         Self {
             operator,
@@ -120,6 +123,7 @@ impl SpectrumOptions {
             well: None,
             tolerance: 1e-10,
             seed: 0,
+            max_restarts: 1000,
         }
     }
 }
@@ -131,8 +135,9 @@ pub struct Spectrum {
     pub eigenvalues: Vec<f64>,
     /// Eigenvectors `φ` (one quaternion per vertex), unit mass norm, canonical phase.
     pub eigenvectors: Vec<Vec<Quat<f64>>>,
-    /// Relative residual of each pair in the pencil that was solved (0 for the exact constant
-    /// mode that is reported without solving).
+    /// Relative residual `‖P φ − λ Q φ‖ / (|λ| ‖Q φ‖)` of each pair in the operator's own
+    /// eigenproblem (`A φ = λ G φ` for Dirac operators, `L φ = λ M φ` for Laplace, …; for
+    /// `λ = 0`, `‖P φ‖ / ‖Q φ‖`), measured on the returned vectors.
     pub residuals: Vec<f64>,
     /// Eigensolver statistics (of the last solve for the literal family).
     pub statistics: Statistics,
@@ -259,11 +264,13 @@ pub fn spectrum_with_progress(
         natural_epsilon.unwrap_or_else(|| regularization(stiffness, &masses))
     };
 
-    let (values, vectors, residuals, statistics, complete) = match options.operator {
+    // Each arm returns the solved pairs and the operator's own eigenproblem `P x = λ Q x`,
+    // against which the reported residuals are measured.
+    let (mapped, (p_matrix, q_matrix)) = match options.operator {
         Operator::Laplace | Operator::Family { tau: 0.0 } => {
             let stiffness = quaternionic(&laplacian()?);
             let epsilon = regularize(&stiffness);
-            shifted_spectrum(
+            let mapped = shifted_spectrum(
                 epsilon,
                 options,
                 &stiffness,
@@ -271,12 +278,13 @@ pub fn spectrum_with_progress(
                 &masses,
                 constant_mode,
                 progress,
-            )?
+            )?;
+            (mapped, (stiffness, mass))
         }
         Operator::Squared => {
             let stiffness = dirac_pencil(true)?.stiffness;
             let epsilon = regularize(&stiffness);
-            shifted_spectrum(
+            let mapped = shifted_spectrum(
                 epsilon,
                 options,
                 &stiffness,
@@ -284,13 +292,14 @@ pub fn spectrum_with_progress(
                 &masses,
                 constant_mode,
                 progress,
-            )?
+            )?;
+            (mapped, (stiffness, mass))
         }
         Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Family { tau: 1.0 } => {
             let pencil = dirac_pencil(options.operator != Operator::ExtrinsicDirac)?;
             let epsilon = regularize(&pencil.stiffness);
             let (a, g) = (&pencil.stiffness, &pencil.coupling);
-            rayleigh_spectrum(
+            let mapped = rayleigh_spectrum(
                 epsilon,
                 options,
                 a,
@@ -300,7 +309,8 @@ pub fn spectrum_with_progress(
                 constant_mode,
                 false,
                 progress,
-            )?
+            )?;
+            (mapped, (pencil.stiffness, pencil.coupling))
         }
         Operator::Family { tau } => {
             let pencil = dirac_pencil(true)?;
@@ -308,26 +318,33 @@ pub fn spectrum_with_progress(
             let stiffness = blend(tau, &pencil.stiffness, &l)?;
             let coupling = blend(tau, &pencil.coupling, &mass)?;
             let epsilon = regularize(&stiffness);
-            let (a, b) = (&stiffness, &coupling);
-            rayleigh_spectrum(
+            let mapped = rayleigh_spectrum(
                 epsilon,
                 options,
-                a,
-                b,
+                &stiffness,
+                &coupling,
                 &mass,
                 &masses,
                 constant_mode,
                 true,
                 progress,
-            )?
+            )?;
+            (mapped, (stiffness, coupling))
         }
         Operator::FamilyLiteral { tau } => {
             let pencil = dirac_pencil(true)?;
             let l = quaternionic(&laplacian()?);
             let operator = blend(tau, &pencil.coupling, &l)?;
-            literal_spectrum(options, &operator, &mass, &masses, progress)?
+            let mapped = literal_spectrum(options, &operator, &mass, &masses, progress)?;
+            (mapped, (operator, mass))
         }
     };
+    let (values, vectors, _, statistics, complete) = mapped;
+    let residuals = values
+        .iter()
+        .zip(&vectors)
+        .map(|(&lambda, x)| operator_residual(&p_matrix, &q_matrix, lambda, x))
+        .collect();
     let mut spectrum = finish(values, vectors, residuals, statistics, scale, &masses);
     spectrum.eigenvalues.truncate(options.k);
     spectrum.eigenvectors.truncate(options.k);
@@ -419,6 +436,7 @@ fn solve_pencil(
     let mut lanczos = LanczosOptions::new(count, which);
     lanczos.tolerance = options.tolerance;
     lanczos.seed = options.seed;
+    lanczos.max_restarts = options.max_restarts;
     let progress: Option<&mut dyn FnMut(&Progress)> = match progress {
         Some(callback) => Some(&mut **callback),
         None => None,
@@ -557,10 +575,33 @@ fn rayleigh_spectrum(
     // against x*Ax for the wanted pairs, or it reorders them. ε starts far below the largest
     // diagonal ratio (≈ λ_max²) and is reduced while it is not negligible for a returned pair.
     let constant_mode = constants_in_kernel && reports_constant;
+    // `G 𝟙` when it does not vanish (a boundary), for the Dirac pencils.
+    let boundary_image = if constants_in_kernel && !reports_constant {
+        let image = image_of_constants(coupling)?;
+        let entry_scale = coupling
+            .values()
+            .iter()
+            .map(|q| q.norm())
+            .fold(0.0, f64::max);
+        image
+            .iter()
+            .any(|q| q.norm() > 1e-10 * entry_scale)
+            .then_some(image)
+    } else {
+        None
+    };
     let mut epsilon = epsilon;
     let mut attempt = 0;
     let mut statistics = Statistics::default();
+    // The first attempt is a cheap probe for the stiffness scale of the wanted pairs.
+    let probe_count = options.k.min(PROBE_PAIRS + usize::from(constant_mode));
     loop {
+        let probe = attempt == 0 && probe_count < options.k;
+        let attempt_options = SpectrumOptions {
+            k: if probe { probe_count } else { options.k },
+            ..*options
+        };
+        let options = &attempt_options;
         let s = plus_mass(stiffness, epsilon, mass)?;
         let mut deflation = Vec::new();
         if constants_in_kernel {
@@ -573,15 +614,9 @@ fn rayleigh_spectrum(
                 // up to constants; deflating `𝟙` picks the mass-orthogonal one (as in the
                 // continuum, ⟨𝟙, φ⟩ = ⟨D𝟙, φ⟩/λ = 0).
                 deflation.push(vec![Quat::from_real(1.0); masses.len()]);
-                let image = image_of_constants(coupling)?;
-                let entry_scale = coupling
-                    .values()
-                    .iter()
-                    .map(|q| q.norm())
-                    .fold(0.0, f64::max);
-                if image.iter().any(|q| q.norm() > 1e-10 * entry_scale) {
+                if let Some(image) = &boundary_image {
                     // Boundary: `G 𝟙 ≠ 0`; impose `𝟙* G x = 0` as well.
-                    deflation.push(SparseCholesky::factorize(&s)?.solve(&image)?);
+                    deflation.push(SparseCholesky::factorize(&s)?.solve(image)?);
                 }
             }
         }
@@ -598,10 +633,16 @@ fn rayleigh_spectrum(
         )?;
         let mut mapped = mapped;
         if constants_in_kernel && !reports_constant {
-            // Fix the constant component exactly: x ← x − 𝟙 ⟨𝟙, x⟩_M / ⟨𝟙, 𝟙⟩_M (the
-            // deflation above only fixes it to the accuracy of `S 𝟙 = ε M 𝟙 + A 𝟙`).
-            for x in &mut mapped.1 {
-                remove_mass_mean(masses, x);
+            for (x, &lambda) in mapped.1.iter_mut().zip(&mapped.0) {
+                match &boundary_image {
+                    // Closed mesh: x + 𝟙c is an eigenvector for every c; pick the
+                    // mass-orthogonal one exactly (the deflation only fixes it to the accuracy
+                    // of `S 𝟙 = ε M 𝟙 + A 𝟙`).
+                    None => remove_mass_mean(masses, x),
+                    // Boundary: the solve returned the part with 𝟙* M x = 0 of the eigenvector
+                    // y = x + 𝟙c; c solves A x − λ G x = λ (G 𝟙) c (least squares).
+                    Some(g) => restore_constant(stiffness, coupling, g, lambda, x),
+                }
             }
         }
         accumulate(&mut statistics, &mapped.3);
@@ -612,10 +653,13 @@ fn rayleigh_spectrum(
             .iter()
             .map(|x| rayleigh_quotient(stiffness, x).abs() / rayleigh_quotient(mass, x))
             .fold(f64::INFINITY, f64::min);
-        if epsilon <= 1e-8 * smallest || attempt == 2 {
+        let negligible = epsilon <= 1e-8 * smallest;
+        if !probe && (negligible || attempt == 3) {
             return Ok(mapped);
         }
-        epsilon = (1e-9 * smallest).min(1e-4 * epsilon);
+        if !negligible {
+            epsilon = (1e-9 * smallest).min(1e-4 * epsilon);
+        }
         attempt += 1;
     }
 }
@@ -634,6 +678,50 @@ fn accumulate(total: &mut Statistics, run: &Statistics) {
     total.total_time += run.total_time;
 }
 
+/// `‖P x − λ Q x‖ / (|λ| ‖Q x‖)` (Euclidean norms; `‖P x‖ / ‖Q x‖` for `λ = 0`): the residual
+/// of the operator's own eigenproblem, not of the regularised pencil that was solved.
+fn operator_residual(
+    p: &SparseMatrix<Quat<f64>>,
+    q: &SparseMatrix<Quat<f64>>,
+    lambda: f64,
+    x: &[Quat<f64>],
+) -> f64 {
+    let (mut px, mut qx) = (
+        vec![Quat::default(); x.len()],
+        vec![Quat::default(); x.len()],
+    );
+    p.mul_vec(x, &mut px)
+        .expect("square operator of the vector's size");
+    q.mul_vec(x, &mut qx)
+        .expect("square operator of the vector's size");
+    let difference: Vec<Quat<f64>> = px.iter().zip(&qx).map(|(&a, &b)| a - b * lambda).collect();
+    let scale = if lambda == 0.0 { 1.0 } else { lambda.abs() };
+    vector::norm(&difference) / (scale * vector::norm(&qx))
+}
+
+/// `x ← x + 𝟙 c` with `c = ⟨g, A x − λ G x⟩ / (λ ⟨g, g⟩)`, `g = G 𝟙`: the constant component
+/// that makes `x` satisfy `A x = λ G x` when only its part orthogonal to the constants was
+/// computed (least squares; exact when that part is exact).
+fn restore_constant(
+    a: &SparseMatrix<Quat<f64>>,
+    g: &SparseMatrix<Quat<f64>>,
+    g_one: &[Quat<f64>],
+    lambda: f64,
+    x: &mut [Quat<f64>],
+) {
+    let (mut ax, mut gx) = (
+        vec![Quat::default(); x.len()],
+        vec![Quat::default(); x.len()],
+    );
+    a.mul_vec(x, &mut ax)
+        .expect("square operator of the vector's size");
+    g.mul_vec(x, &mut gx)
+        .expect("square operator of the vector's size");
+    let residual: Vec<Quat<f64>> = ax.iter().zip(&gx).map(|(&p, &q)| p - q * lambda).collect();
+    let c = vector::inner(g_one, &residual) / (lambda * vector::inner(g_one, g_one).re());
+    x.iter_mut().for_each(|q| *q += c);
+}
+
 /// `x ← x − 𝟙 ⟨𝟙, x⟩_M / ⟨𝟙, 𝟙⟩_M`: the mass-orthogonal projection away from the constants.
 fn remove_mass_mean(masses: &[f64], x: &mut [Quat<f64>]) {
     let total: f64 = masses.iter().sum();
@@ -645,6 +733,9 @@ fn remove_mass_mean(masses: &[f64], x: &mut [Quat<f64>]) {
         / total;
     x.iter_mut().for_each(|q| *q -= mean);
 }
+
+/// Pairs computed by the probe that sets `ε` for the Rayleigh pencils.
+const PROBE_PAIRS: usize = 4;
 
 /// `Re(x* A x)`.
 fn rayleigh_quotient(a: &SparseMatrix<Quat<f64>>, x: &[Quat<f64>]) -> f64 {
