@@ -267,22 +267,11 @@ pub fn spectrum_with_progress(
     // Each arm returns the solved pairs and the operator's own eigenproblem `P x = λ Q x`,
     // against which the reported residuals are measured.
     let (mapped, (p_matrix, q_matrix)) = match options.operator {
-        Operator::Laplace | Operator::Family { tau: 0.0 } => {
-            let stiffness = quaternionic(&laplacian()?);
-            let epsilon = regularize(&stiffness);
-            let mapped = shifted_spectrum(
-                epsilon,
-                options,
-                &stiffness,
-                &mass,
-                &masses,
-                constant_mode,
-                progress,
-            )?;
-            (mapped, (stiffness, mass))
-        }
-        Operator::Squared => {
-            let stiffness = dirac_pencil(true)?.stiffness;
+        Operator::Laplace | Operator::Family { tau: 0.0 } | Operator::Squared => {
+            let stiffness = match options.operator {
+                Operator::Squared => dirac_pencil(true)?.stiffness,
+                _ => quaternionic(&laplacian()?),
+            };
             let epsilon = regularize(&stiffness);
             let mapped = shifted_spectrum(
                 epsilon,
