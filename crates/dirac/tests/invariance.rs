@@ -2,6 +2,9 @@
 //! motions, rotation covariance of canonical eigenvectors, scaling laws, and the sign flip of
 //! the extrinsic Dirac spectrum under orientation reversal.
 
+mod common;
+
+use common::perturbed_sphere;
 use dirac::TriMesh;
 use dirac::generators::icosphere;
 use dirac::spectrum::{Normalization, Operator, Spectrum, SpectrumOptions, spectrum};
@@ -21,22 +24,6 @@ const OPERATORS: [Operator; 6] = [
     Operator::FamilyLiteral { tau: 0.5 },
     Operator::Squared,
 ];
-
-/// The level-`level` icosphere with each vertex moved radially by a factor in `[1−a, 1+a]`
-/// (breaks the sphere's degeneracies, so eigenvalues are generically simple).
-fn perturbed_sphere(level: u32, amplitude: f64) -> impl Strategy<Value = TriMesh> {
-    let base = icosphere(level);
-    let n = base.vertex_count();
-    prop::collection::vec(-amplitude..amplitude, n).prop_map(move |bumps| {
-        let positions = base
-            .positions()
-            .iter()
-            .zip(&bumps)
-            .map(|(p, b)| p.map(|c| c * (1.0 + b)))
-            .collect();
-        TriMesh::new(positions, base.faces().to_vec()).expect("a mildly perturbed sphere is valid")
-    })
-}
 
 /// A fixed perturbed level-1 icosphere, for the deterministic tests.
 fn fixed_sphere(seed: u64) -> TriMesh {

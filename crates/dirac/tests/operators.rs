@@ -1,7 +1,10 @@
 //! Property tests of the discrete operators against the exact identities of math-spec §3 and §9.
 
+mod common;
+
 use std::collections::HashMap;
 
+use common::perturbed_sphere;
 use dirac::TriMesh;
 use dirac::generators::icosphere;
 use dirac::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
@@ -10,21 +13,6 @@ use proptest::prelude::*;
 use qscalar::strategies::quat;
 use qscalar::{Quat, Scalar};
 use qsparse::SparseMatrix;
-
-/// The level-`level` icosphere with each vertex moved radially by a factor in `[1−a, 1+a]`.
-fn perturbed_sphere(level: u32, amplitude: f64) -> impl Strategy<Value = TriMesh> {
-    let base = icosphere(level);
-    let n = base.vertex_count();
-    prop::collection::vec(-amplitude..amplitude, n).prop_map(move |bumps| {
-        let positions = base
-            .positions()
-            .iter()
-            .zip(&bumps)
-            .map(|(p, b)| p.map(|c| c * (1.0 + b)))
-            .collect();
-        TriMesh::new(positions, base.faces().to_vec()).expect("a mildly perturbed sphere is valid")
-    })
-}
 
 /// A flat `side × side` grid in the plane z = 0.
 fn plane(side: usize) -> TriMesh {

@@ -130,13 +130,7 @@ pub(crate) fn inner<V: Scalar<Real = f64>>(v: &[V], w: &[V]) -> V {
         4 => widen(outer_products::<4>(a, b)),
         _ => return v.iter().zip(w).map(|(&x, &y)| x.conj() * y).sum(),
     };
-    let mut result = V::zero();
-    for (kappa, row) in s.iter().enumerate().take(V::REAL_DIM) {
-        let mut s_kappa = [V::zero()];
-        V::as_reals_mut(&mut s_kappa).copy_from_slice(&row[..V::REAL_DIM]);
-        result += unit::<V>(kappa).conj() * s_kappa[0];
-    }
-    result
+    combine(s)
 }
 
 /// `w ← w + v c`, then `⟨next, w⟩` (zero without `next`), in one sweep over the vectors.
