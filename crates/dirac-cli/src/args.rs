@@ -1,11 +1,11 @@
 //! Command-line arguments (clap derive) and their translation into library options.
 
-use std::path::PathBuf;
-
 use clap::error::ErrorKind;
 use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions};
 use dirac::well::PotentialWell;
+
+use crate::commands::spectrum::SpectrumArgs;
 
 const AFTER_HELP: &str = "\
 Exit codes:
@@ -38,12 +38,10 @@ pub enum Command {
     Spectrum(SpectrumArgs),
 }
 
-/// Arguments of `dirac spectrum`.
-#[derive(Debug, Args)]
-pub struct SpectrumArgs {
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
-    pub mesh: Option<PathBuf>,
-
+/// The operator and eigensolver options shared by every command that computes a spectrum
+/// (flattened into each command's arguments).
+#[derive(Debug, Clone, Args)]
+pub struct SolveArgs {
     /// The operator.
     #[arg(long, value_enum, default_value_t = OperatorArg::RelativeDirac)]
     pub operator: OperatorArg,
@@ -65,10 +63,6 @@ pub struct SpectrumArgs {
     #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
     pub normalize: NormalizeArg,
 
-    /// Print exactly one JSON object on stdout instead of tables.
-    #[arg(long)]
-    pub json: bool,
-
     /// Relative residual tolerance of the eigensolver.
     #[arg(long, default_value = "1e-10", value_parser = positive_real)]
     pub tolerance: f64,
@@ -81,10 +75,6 @@ pub struct SpectrumArgs {
     /// pairs that converged (exit code 3).
     #[arg(long, default_value_t = 1000, value_name = "N")]
     pub max_restarts: usize,
-
-    /// No progress display on stderr.
-    #[arg(short, long)]
-    pub quiet: bool,
 
     /// Potential well (paper §5.1): radius β in geodesic distance; enables the well.
     #[arg(long, value_name = "BETA", value_parser = nonnegative_real, help_heading = "Potential well")]
@@ -157,15 +147,17 @@ pub fn value_name(value: &impl ValueEnum) -> String {
         .unwrap_or_default()
 }
 
-impl SpectrumArgs {
-    /// Checks what clap cannot express (`--tau` only with the family) and builds the options.
-    /// Errors are clap usage errors (exit code 2).
-    pub fn options(&self) -> Result<SpectrumOptions, clap::Error> {
+impl SolveArgs {
+    /// Checks what clap cannot express (`--tau` only with the family) and builds the options;
+    /// `subcommand` names the command in the error message. Errors are clap usage errors
+    /// (exit code 2).
+    pub fn options(&self, subcommand: &str) -> Result<SpectrumOptions, clap::Error> {
         let operator = match (self.operator, self.tau) {
             (OperatorArg::Family, Some(tau)) => Operator::Family { tau },
             (OperatorArg::FamilyLiteral, Some(tau)) => Operator::FamilyLiteral { tau },
             (OperatorArg::Family | OperatorArg::FamilyLiteral, None) => {
                 return Err(usage_error(
+                    subcommand,
                     ErrorKind::MissingRequiredArgument,
                     format!(
                         "--operator {} needs --tau <T> (the weight of D_N, in [0, 1])",
@@ -175,6 +167,7 @@ impl SpectrumArgs {
             }
             (_, Some(_)) => {
                 return Err(usage_error(
+                    subcommand,
                     ErrorKind::ArgumentConflict,
                     format!(
                         "--tau applies only to --operator family or family-literal, not {}",
@@ -210,24 +203,26 @@ impl SpectrumArgs {
     }
 }
 
-/// A usage error of `dirac spectrum` in the style of clap's own.
-fn usage_error(kind: ErrorKind, message: String) -> clap::Error {
+/// A usage error of `dirac <subcommand>` in the style of clap's own (exit code 2).
+pub fn usage_error(subcommand: &str, kind: ErrorKind, message: String) -> clap::Error {
     let mut command = Cli::command();
     command.build();
-    match command.find_subcommand_mut("spectrum") {
-        Some(spectrum) => spectrum.error(kind, message),
+    match command.find_subcommand_mut(subcommand) {
+        Some(found) => found.error(kind, message),
         None => command.error(kind, message),
     }
 }
 
-fn finite(text: &str) -> Result<f64, String> {
+/// Value parser (clap `value_parser`).
+pub fn finite(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
         _ => Err(format!("`{text}` is not a finite number")),
     }
 }
 
-fn unit_interval(text: &str) -> Result<f64, String> {
+/// Value parser (clap `value_parser`).
+pub fn unit_interval(text: &str) -> Result<f64, String> {
     let x = finite(text)?;
     if (0.0..=1.0).contains(&x) {
         Ok(x)
@@ -236,7 +231,8 @@ fn unit_interval(text: &str) -> Result<f64, String> {
     }
 }
 
-fn positive_real(text: &str) -> Result<f64, String> {
+/// Value parser (clap `value_parser`).
+pub fn positive_real(text: &str) -> Result<f64, String> {
     let x = finite(text)?;
     if x > 0.0 {
         Ok(x)
@@ -245,7 +241,8 @@ fn positive_real(text: &str) -> Result<f64, String> {
     }
 }
 
-fn nonnegative_real(text: &str) -> Result<f64, String> {
+/// Value parser (clap `value_parser`).
+pub fn nonnegative_real(text: &str) -> Result<f64, String> {
     let x = finite(text)?;
     if x >= 0.0 {
         Ok(x)
@@ -254,7 +251,8 @@ fn nonnegative_real(text: &str) -> Result<f64, String> {
     }
 }
 
-fn positive_count(text: &str) -> Result<usize, String> {
+/// Value parser (clap `value_parser`).
+pub fn positive_count(text: &str) -> Result<usize, String> {
     match text.parse::<usize>() {
         Ok(k) if k > 0 => Ok(k),
         _ => Err(format!("`{text}` is not a positive integer")),

@@ -2,7 +2,7 @@
 //! (Liu, Jacobson, Crane 2017) from the command line. See `dirac --help`.
 
 mod args;
-mod command;
+mod commands;
 mod output;
 mod progress;
 
@@ -13,13 +13,11 @@ use clap::Parser;
 use crate::args::{Cli, Command};
 
 fn main() -> ExitCode {
-    match Cli::parse().command {
-        Command::Spectrum(args) => {
-            let options = args.options().unwrap_or_else(|error| error.exit());
-            command::spectrum(&args, &options).unwrap_or_else(|error| {
-                eprintln!("error: {error}");
-                ExitCode::FAILURE
-            })
-        }
-    }
+    let outcome = match Cli::parse().command {
+        Command::Spectrum(args) => commands::spectrum::run(&args).map_err(|e| e.to_string()),
+    };
+    outcome.unwrap_or_else(|error| {
+        eprintln!("error: {error}");
+        ExitCode::FAILURE
+    })
 }

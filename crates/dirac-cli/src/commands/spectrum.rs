@@ -1,20 +1,38 @@
 //! `dirac spectrum`: load the mesh, compute the spectrum with a progress display, report.
 
 use std::io::{self, Write};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use dirac::io::{ReadError, read_mesh};
-use dirac::spectrum::{SpectrumError, SpectrumOptions, spectrum_with_progress};
-use dirac::{TriMesh, default_mesh};
+use clap::Args;
+use dirac::io::ReadError;
+use dirac::spectrum::{SpectrumError, spectrum_with_progress};
 use thiserror::Error;
 
-use crate::args::{SpectrumArgs, value_name};
+use crate::args::{SolveArgs, value_name};
+use crate::commands::load_mesh;
 use crate::output::{Report, StatisticsReport, Timings, WellReport, write_human, write_json};
 use crate::progress::SolveProgress;
 
-/// Name of the built-in mesh in reports.
-const DEFAULT_MESH_NAME: &str = "spot (built-in)";
+/// Arguments of `dirac spectrum`.
+#[derive(Debug, Args)]
+pub struct SpectrumArgs {
+    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    pub mesh: Option<PathBuf>,
+
+    /// Operator and eigensolver.
+    #[command(flatten)]
+    pub solve: SolveArgs,
+
+    /// Print exactly one JSON object on stdout instead of tables.
+    #[arg(long)]
+    pub json: bool,
+
+    /// No progress display on stderr.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
 
 /// Exit code of a solve that did not converge (the converged part is still printed).
 const NOT_CONVERGED: u8 = 3;
@@ -38,11 +56,15 @@ pub enum CommandError {
     Output(#[from] io::Error),
 }
 
-/// Runs `dirac spectrum` with validated `options`; returns the exit code to use after
-/// printing the result (0, or 3 when the eigensolver did not converge).
-pub fn spectrum(args: &SpectrumArgs, options: &SpectrumOptions) -> Result<ExitCode, CommandError> {
+/// Runs `dirac spectrum`; returns the exit code to use after printing the result (0, 2 for a
+/// usage error clap cannot detect, or 3 when the eigensolver did not converge).
+pub fn run(args: &SpectrumArgs) -> Result<ExitCode, CommandError> {
+    let options = args
+        .solve
+        .options("spectrum")
+        .unwrap_or_else(|error| error.exit());
     let start = Instant::now();
-    let (mesh, name) = load(args)?;
+    let (mesh, name) = load_mesh(args.mesh.as_deref())?;
     let load_time = start.elapsed();
 
     let mut report = Report {
@@ -50,11 +72,11 @@ pub fn spectrum(args: &SpectrumArgs, options: &SpectrumOptions) -> Result<ExitCo
         vertices: mesh.vertex_count(),
         faces: mesh.face_count(),
         topology: mesh.topology(),
-        operator: value_name(&args.operator),
-        tau: args.tau,
-        k: args.k,
-        backend: value_name(&args.backend),
-        normalize: value_name(&args.normalize),
+        operator: value_name(&args.solve.operator),
+        tau: args.solve.tau,
+        k: args.solve.k,
+        backend: value_name(&args.solve.backend),
+        normalize: value_name(&args.solve.normalize),
         well: options.well.map(|w| WellReport {
             center: w.center,
             radius: w.radius,
@@ -73,7 +95,7 @@ pub fn spectrum(args: &SpectrumArgs, options: &SpectrumOptions) -> Result<ExitCo
 
     let start = Instant::now();
     let display = SolveProgress::start(args.quiet);
-    let result = spectrum_with_progress(&mesh, options, Some(&mut |p| display.update(p)));
+    let result = spectrum_with_progress(&mesh, &options, Some(&mut |p| display.update(p)));
     drop(display);
     let elapsed = start.elapsed();
 
@@ -109,12 +131,4 @@ pub fn spectrum(args: &SpectrumArgs, options: &SpectrumOptions) -> Result<ExitCo
     }
     out.flush()?;
     Ok(code)
-}
-
-/// The mesh named on the command line, or the built-in one, with its name for the report.
-fn load(args: &SpectrumArgs) -> Result<(TriMesh, String), ReadError> {
-    match &args.mesh {
-        Some(path) => Ok((read_mesh(path)?, path.display().to_string())),
-        None => Ok((default_mesh(), DEFAULT_MESH_NAME.to_string())),
-    }
 }

@@ -1,0 +1,2 @@
+//! Library part of the `dirac` command line: what the binary draws and writes, reusable by
+//! the experiments (rendering meshes shaded by a function, plotting spectra).
