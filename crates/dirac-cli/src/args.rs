@@ -5,6 +5,11 @@ use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions};
 use dirac::well::PotentialWell;
 
+use crate::commands::batch::BatchArgs;
+use crate::commands::descriptor::DescriptorArgs;
+use crate::commands::eigenfunctions::EigenfunctionsArgs;
+use crate::commands::plot::PlotArgs;
+use crate::commands::render::RenderArgs;
 use crate::commands::spectrum::SpectrumArgs;
 
 const AFTER_HELP: &str = "\
@@ -36,6 +41,20 @@ pub enum Command {
     /// The k eigenvalues of smallest |λ| of an operator on a mesh.
     #[command(after_help = AFTER_HELP)]
     Spectrum(SpectrumArgs),
+    /// Eigenvalues and eigenvectors to .npy files, or |φ_I| on the mesh to a .ply.
+    #[command(after_help = crate::commands::eigenfunctions::AFTER_HELP)]
+    Eigenfunctions(EigenfunctionsArgs),
+    /// Per-vertex descriptors (HKS, DKS, WKS, segmentation, eigenvectors) to .csv or .npy.
+    #[command(after_help = crate::commands::descriptor::AFTER_HELP)]
+    Descriptor(DescriptorArgs),
+    /// Spectra of many meshes in parallel, resumable: one JSON per mesh and a summary.csv.
+    #[command(after_help = crate::commands::batch::AFTER_HELP)]
+    Batch(BatchArgs),
+    /// A picture (PNG) of eigenfunction magnitudes |φ_I|, a descriptor (HKS, DKS, WKS) or the
+    /// potential well on a mesh.
+    Render(RenderArgs),
+    /// Charts (PNG or SVG): `dirac plot spectra` draws several spectra in one chart.
+    Plot(PlotArgs),
 }
 
 /// The operator and eigensolver options shared by every command that computes a spectrum
@@ -117,6 +136,8 @@ pub enum OperatorArg {
     FamilyLiteral,
     /// Squared relative Dirac operator D_N* D_N.
     Squared,
+    /// Modified Dirichlet energy Hessian Δ + (κ₁² + κ₂²).
+    ModifiedDirichlet,
 }
 
 /// `--backend` values.
@@ -179,6 +200,7 @@ impl SolveArgs {
             (OperatorArg::RelativeDirac, None) => Operator::RelativeDirac,
             (OperatorArg::ExtrinsicDirac, None) => Operator::ExtrinsicDirac,
             (OperatorArg::Squared, None) => Operator::Squared,
+            (OperatorArg::ModifiedDirichlet, None) => Operator::ModifiedDirichlet,
         };
         let mut options = SpectrumOptions::new(operator, self.k);
         options.backend = match self.backend {
@@ -200,6 +222,22 @@ impl SolveArgs {
         options.seed = self.seed;
         options.max_restarts = self.max_restarts;
         Ok(options)
+    }
+
+    /// Switches `options` to the Laplacian for the heat kernel signature (`what` names it in
+    /// the note), which is defined for the Laplacian only; a note on stderr says so when
+    /// `--operator` asked for another operator than the default.
+    pub fn use_laplacian(&self, options: &mut SpectrumOptions, what: &str) {
+        if !matches!(
+            self.operator,
+            OperatorArg::Laplace | OperatorArg::RelativeDirac
+        ) {
+            eprintln!(
+                "note: {what} uses the Laplace operator; --operator {} is ignored (the DKS uses it)",
+                value_name(&self.operator)
+            );
+        }
+        options.operator = Operator::Laplace;
     }
 }
 

@@ -15,6 +15,13 @@ use crate::args::{Cli, Command};
 fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Spectrum(args) => commands::spectrum::run(&args).map_err(|e| e.to_string()),
+        Command::Eigenfunctions(args) => {
+            commands::eigenfunctions::run(&args).map_err(|e| e.to_string())
+        }
+        Command::Descriptor(args) => commands::descriptor::run(&args).map_err(|e| e.to_string()),
+        Command::Batch(args) => commands::batch::run(&args).map_err(|e| e.to_string()),
+        Command::Render(args) => commands::render::run(&args).map_err(|e| e.to_string()),
+        Command::Plot(args) => commands::plot::run(&args).map_err(|e| e.to_string()),
     };
     outcome.unwrap_or_else(|error| {
         eprintln!("error: {error}");

@@ -3,9 +3,11 @@
 use std::io::{self, Write};
 use std::time::Duration;
 
-use dirac::Topology;
-use dirac::spectrum::Spectrum;
+use dirac::spectrum::{Spectrum, SpectrumOptions};
+use dirac::{Topology, TriMesh};
 use serde::Serialize;
+
+use crate::args::{SolveArgs, value_name};
 
 /// Everything a run reports. Field names are the JSON keys.
 #[derive(Debug, Serialize)]
@@ -19,6 +21,25 @@ pub struct Report {
     /// Boundary loops, components and genus (human output only).
     #[serde(skip)]
     pub topology: Topology,
+    /// The operator and solver options (the keys `operator`, `tau`, `k`, `backend`,
+    /// `normalize`, `well`).
+    #[serde(flatten)]
+    pub settings: RunSettings,
+    /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
+    pub converged: bool,
+    /// Eigenvalues, signed, sorted by `|λ|`.
+    pub eigenvalues: Vec<f64>,
+    /// Relative residual of each eigenpair.
+    pub residuals: Vec<f64>,
+    /// Eigensolver counts.
+    pub statistics: StatisticsReport,
+    /// Wall-clock times in seconds.
+    pub timings: Timings,
+}
+
+/// The options of a run, as [`Report`] and the JSON name them.
+#[derive(Debug, Serialize)]
+pub struct RunSettings {
     /// The `--operator` value.
     pub operator: String,
     /// `τ` of the family, `null` for the other operators.
@@ -31,16 +52,25 @@ pub struct Report {
     pub normalize: String,
     /// The potential well, `null` without one.
     pub well: Option<WellReport>,
-    /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
-    pub converged: bool,
-    /// Eigenvalues, signed, sorted by `|λ|`.
-    pub eigenvalues: Vec<f64>,
-    /// Relative residual of each eigenpair.
-    pub residuals: Vec<f64>,
-    /// Eigensolver counts.
-    pub statistics: StatisticsReport,
-    /// Wall-clock times in seconds.
-    pub timings: Timings,
+}
+
+impl RunSettings {
+    /// The settings of a run with the command-line options `solve`, translated to `options`.
+    pub fn new(solve: &SolveArgs, options: &SpectrumOptions) -> Self {
+        Self {
+            operator: value_name(&solve.operator),
+            tau: solve.tau,
+            k: solve.k,
+            backend: value_name(&solve.backend),
+            normalize: value_name(&solve.normalize),
+            well: options.well.map(|w| WellReport {
+                center: w.center,
+                radius: w.radius,
+                steepness: w.steepness,
+                height: w.height,
+            }),
+        }
+    }
 }
 
 /// The potential well's parameters.
@@ -87,6 +117,26 @@ pub struct Timings {
 }
 
 impl Report {
+    /// The report of a run on `mesh` (named `name`, read in `load`) before its spectrum is
+    /// known: no eigenvalues yet, `converged` true.
+    pub fn new(name: String, mesh: &TriMesh, settings: RunSettings, load: Duration) -> Self {
+        Self {
+            mesh: name,
+            vertices: mesh.vertex_count(),
+            faces: mesh.face_count(),
+            topology: mesh.topology(),
+            settings,
+            converged: true,
+            eigenvalues: Vec::new(),
+            residuals: Vec::new(),
+            statistics: StatisticsReport::default(),
+            timings: Timings {
+                load: load.as_secs_f64(),
+                ..Timings::default()
+            },
+        }
+    }
+
     /// Copies the eigenvalues, residuals and statistics of `spectrum` into the report.
     pub fn set_spectrum(&mut self, spectrum: &Spectrum, assemble_and_solve: Duration) {
         let s = &spectrum.statistics;
@@ -132,16 +182,17 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         report.faces,
         t.genus()
     )?;
-    let tau = report
+    let settings = &report.settings;
+    let tau = settings
         .tau
         .map(|t| format!(" (tau = {t})"))
         .unwrap_or_default();
     writeln!(
         out,
         "operator    {}{tau}, k = {}, backend {}, normalize {}",
-        report.operator, report.k, report.backend, report.normalize
+        settings.operator, settings.k, settings.backend, settings.normalize
     )?;
-    if let Some(w) = &report.well {
+    if let Some(w) = &settings.well {
         let center = w
             .center
             .map_or_else(|| "centroid vertex".to_string(), |c| format!("vertex {c}"));
@@ -165,7 +216,7 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
             out,
             "(only {} of {} eigenvalues converged)",
             report.eigenvalues.len(),
-            report.k
+            settings.k
         )?;
     }
     writeln!(out)?;

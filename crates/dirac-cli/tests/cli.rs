@@ -1,53 +1,26 @@
 //! End-to-end tests of the `dirac` binary: JSON output against the library, closed-form
 //! Laplace eigenvalues, and the exit codes of bad input.
 
-use std::fs;
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod support;
 
-use dirac::TriMesh;
+use std::fs;
+use std::process::Output;
+
 use dirac::generators::icosphere;
-use dirac::spectrum::{Operator, SpectrumOptions, spectrum};
+use dirac::spectrum::Operator;
 use serde_json::Value;
 
-/// Runs `dirac` with `args`.
-fn dirac(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_dirac"))
-        .args(args)
-        .output()
-        .expect("the dirac binary runs")
-}
-
-/// Writes `mesh` as an OFF file (by hand, so the reader is exercised independently of any
-/// writer) and returns its path.
-fn write_off(mesh: &TriMesh, name: &str) -> PathBuf {
-    let mut text = format!("OFF\n{} {} 0\n", mesh.vertex_count(), mesh.face_count());
-    for [x, y, z] in mesh.positions() {
-        text += &format!("{x} {y} {z}\n");
-    }
-    for [i, j, k] in mesh.faces() {
-        text += &format!("3 {i} {j} {k}\n");
-    }
-    write_file(name, &text)
-}
-
-fn write_file(name: &str, contents: &str) -> PathBuf {
-    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    fs::write(&path, contents).expect("the temporary directory is writable");
-    path
-}
+use support::{
+    assert_success, assert_usage_errors, dirac, library, stderr, temporary, text, write_off,
+};
 
 /// Parses stdout as the one JSON object of a successful run.
 fn json(output: &Output) -> Value {
-    assert!(
-        output.status.success(),
-        "exit {:?}, stderr: {}",
-        output.status.code(),
-        String::from_utf8_lossy(&output.stderr)
-    );
+    assert_success(output);
     serde_json::from_slice(&output.stdout).expect("stdout is one JSON object")
 }
 
+/// The numbers of a JSON array.
 fn numbers(value: &Value) -> Vec<f64> {
     value
         .as_array()
@@ -60,11 +33,11 @@ fn numbers(value: &Value) -> Vec<f64> {
 #[test]
 fn json_output_is_complete_and_agrees_with_the_library() {
     let mesh = icosphere(2);
-    let path = write_off(&mesh, "icosphere2_dirac.off");
+    let path = write_off(&mesh, temporary("icosphere2_dirac.off"));
     let k = 6;
     let output = dirac(&[
         "spectrum",
-        path.to_str().expect("UTF-8 path"),
+        text(&path),
         "--operator",
         "relative-dirac",
         "-k",
@@ -130,8 +103,7 @@ fn json_output_is_complete_and_agrees_with_the_library() {
         "not sorted by |λ|: {eigenvalues:?}"
     );
 
-    let library = spectrum(&mesh, &SpectrumOptions::new(Operator::RelativeDirac, k))
-        .expect("the library solves the same problem");
+    let library = library(&mesh, Operator::RelativeDirac, k);
     for (binary, library) in eigenvalues.iter().zip(&library.eigenvalues) {
         assert!(
             (binary - library).abs() <= 1e-8 * library.abs().max(1.0),
@@ -143,10 +115,10 @@ fn json_output_is_complete_and_agrees_with_the_library() {
 
 #[test]
 fn laplace_on_the_icosphere_matches_the_sphere() {
-    let path = write_off(&icosphere(2), "icosphere2_laplace.off");
+    let path = write_off(&icosphere(2), temporary("icosphere2_laplace.off"));
     let output = dirac(&[
         "spectrum",
-        path.to_str().expect("UTF-8 path"),
+        text(&path),
         "--operator",
         "laplace",
         "-k",
@@ -163,8 +135,8 @@ fn laplace_on_the_icosphere_matches_the_sphere() {
 
 #[test]
 fn family_reports_tau_and_human_output_has_a_table() {
-    let path = write_off(&icosphere(1), "icosphere1_family.off");
-    let path = path.to_str().expect("UTF-8 path");
+    let path = write_off(&icosphere(1), temporary("icosphere1_family.off"));
+    let path = text(&path);
     let args = [
         "spectrum",
         path,
@@ -181,7 +153,7 @@ fn family_reports_tau_and_human_output_has_a_table() {
 
     let output = dirac(&args);
     assert!(output.status.success());
-    let text = String::from_utf8_lossy(&output.stdout);
+    let table = String::from_utf8_lossy(&output.stdout);
     for expected in [
         "42 vertices, 80 faces",
         "eigenvalue",
@@ -189,7 +161,7 @@ fn family_reports_tau_and_human_output_has_a_table() {
         "statistics",
         "timings",
     ] {
-        assert!(text.contains(expected), "missing {expected:?} in\n{text}");
+        assert!(table.contains(expected), "missing {expected:?} in\n{table}");
     }
 }
 
@@ -197,35 +169,36 @@ fn family_reports_tau_and_human_output_has_a_table() {
 fn missing_file_exits_1_naming_it() {
     let output = dirac(&["spectrum", "/nonexistent/cow.obj", "--quiet"]);
     assert_eq!(output.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("/nonexistent/cow.obj"), "{stderr}");
+    let message = stderr(&output);
+    assert!(message.contains("/nonexistent/cow.obj"), "{message}");
     assert!(output.stdout.is_empty());
 }
 
 #[test]
 fn malformed_file_exits_1_naming_file_and_line() {
-    let path = write_file(
-        "malformed.off",
-        "OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n",
-    );
-    let output = dirac(&["spectrum", path.to_str().expect("UTF-8 path")]);
+    let path = temporary("malformed.off");
+    fs::write(&path, "OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n")
+        .expect("the temporary directory is writable");
+    let output = dirac(&["spectrum", text(&path)]);
     assert_eq!(output.status.code(), Some(1));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("malformed.off"), "{stderr}");
-    assert!(stderr.contains("line 4"), "{stderr}");
+    let message = stderr(&output);
+    assert!(message.contains("malformed.off"), "{message}");
+    assert!(message.contains("line 4"), "{message}");
 }
 
 #[test]
 fn family_without_tau_is_a_usage_error() {
-    for operator in ["family", "family-literal"] {
-        let output = dirac(&["spectrum", "--operator", operator]);
-        assert_eq!(output.status.code(), Some(2));
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert!(stderr.contains("needs --tau"), "{stderr}");
-    }
-    let output = dirac(&["spectrum", "--operator", "laplace", "--tau", "0.5"]);
-    assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("--tau applies only"));
+    assert_usage_errors(
+        &["spectrum"],
+        &[
+            (&["--operator", "family"], "needs --tau"),
+            (&["--operator", "family-literal"], "needs --tau"),
+            (
+                &["--operator", "laplace", "--tau", "0.5"],
+                "--tau applies only",
+            ),
+        ],
+    );
 }
 
 #[test]
@@ -238,10 +211,10 @@ fn default_mesh_runs() {
 
 #[test]
 fn non_convergence_exits_3_with_the_partial_result() {
-    let path = write_off(&icosphere(3), "icosphere3_tight.off");
+    let path = write_off(&icosphere(3), temporary("icosphere3_tight.off"));
     let output = dirac(&[
         "spectrum",
-        path.to_str().expect("UTF-8 path"),
+        text(&path),
         "-k",
         "12",
         "--tolerance",
@@ -256,5 +229,5 @@ fn non_convergence_exits_3_with_the_partial_result() {
     let converged = numbers(&report["eigenvalues"]).len();
     assert!(converged < 12);
     assert_eq!(numbers(&report["residuals"]).len(), converged);
-    assert!(String::from_utf8_lossy(&output.stderr).contains("converged only"));
+    assert!(stderr(&output).contains("converged only"));
 }

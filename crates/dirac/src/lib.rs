@@ -5,6 +5,8 @@
 //! generator, and the real operators every spectrum needs: face areas, barycentric vertex
 //! masses and the positive-semidefinite cotangent Laplacian.
 
+pub mod curvature;
+pub mod descriptors;
 mod disjoint_sets;
 pub mod generators;
 pub mod geometry;

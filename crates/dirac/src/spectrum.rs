@@ -8,8 +8,10 @@
 //! | family `L(τ)`, blended | `B_τ x = μ (A_τ + εM) x`, `S⁻¹B_τ𝟙` deflated | `x*A_τx / x*B_τx`; `0` for the constants |
 //! | family, literal | `M x = μ (K(τ) + σM) x`, `K(τ) = (1−τ)L + τG` | `1/μ − σ` |
 //! | squared `D_N* D_N` | `M x = μ (A + εM) x`, constants deflated | `1/μ − ε`; `0` for the constants |
+//! | modified Dirichlet `Δ + U` | `M x = μ (L + M diag(U) + εM) x` (`⊗I`) | `1/μ − ε` |
 //!
-//! with `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M`, and `ε`
+//! with `U = κ₁² + κ₂²` the Willmore potential ([`crate::curvature::willmore_potential`]),
+//! `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M`, and `ε`
 //! a regularisation `10⁻¹⁰` times the largest diagonal ratio of the stiffness to `M`. The shifted
 //! pencils are mapped back exactly. For the Rayleigh pencils `ε` changes the selection
 //! (`|μ| = |x*Kx| / (x*Ax + ε x*Mx)`) and, to second order, the vectors, so after solving every
@@ -37,6 +39,7 @@ use qsparse::{CholeskyError, SparseCholesky, SparseMatrix, vector};
 use thiserror::Error;
 
 use crate::TriMesh;
+use crate::curvature::willmore_potential;
 use crate::geometry::{barycentric_masses, cotan_laplacian};
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, normal_dirac, quaternionic};
 use crate::phase::orthonormalize_and_canonicalize;
@@ -63,6 +66,12 @@ pub enum Operator {
     },
     /// The squared relative Dirac operator `D_N* D_N` (pencil `A x = ν M x`).
     Squared,
+    /// The Hessian `Δ + (κ₁² + κ₂²)` of the modified Dirichlet energy (paper §4.1,
+    /// Hildebrandt et al. 2012): pencil `(L + M diag(U)) x = λ M x` with the Willmore potential
+    /// `U` of [`crate::curvature::willmore_potential`]. Real, so every eigenvalue comes as a
+    /// quaternionic multiple of a real eigenvector; the constants are not in its kernel unless
+    /// `U = 0` (a plane) and are never deflated.
+    ModifiedDirichlet,
 }
 
 /// Which representation the eigensolver works in (`qeig` backends).
@@ -84,7 +93,7 @@ pub enum Normalization {
     #[default]
     None,
     /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Scaling a mesh by `s`
-    /// multiplies the eigenvalues of `D_N`, `Δ` and the literal `L(τ)` by `1/s²`, of `D_f` by
+    /// multiplies the eigenvalues of `D_N`, `Δ`, `Δ + U` and the literal `L(τ)` by `1/s²`, of `D_f` by
     /// `1/s` and of `D_N* D_N` by `1/s⁴`. The blended `L(τ)` is not homogeneous: its values
     /// at scale `s` are those at scale 1 for `τ' = τ/(τ + (1−τ)s²)`, divided by `s²`.
     UnitArea,
@@ -236,7 +245,10 @@ pub fn spectrum_with_progress(
     let progress = &mut progress;
 
     let laplacian = || -> Result<SparseMatrix<f64>, SpectrumError> {
-        let l = cotan_laplacian(mesh);
+        let l = match options.operator {
+            Operator::ModifiedDirichlet => modified_dirichlet(mesh)?,
+            _ => cotan_laplacian(mesh),
+        };
         Ok(match &potential {
             Some(u) => laplacian_with_well(mesh, &l, u)?,
             None => l,
@@ -267,7 +279,10 @@ pub fn spectrum_with_progress(
     // Each arm returns the solved pairs and the operator's own eigenproblem `P x = λ Q x`,
     // against which the reported residuals are measured.
     let (mapped, (p_matrix, q_matrix)) = match options.operator {
-        Operator::Laplace | Operator::Family { tau: 0.0 } | Operator::Squared => {
+        Operator::Laplace
+        | Operator::Family { tau: 0.0 }
+        | Operator::Squared
+        | Operator::ModifiedDirichlet => {
             let stiffness = match options.operator {
                 Operator::Squared => dirac_pencil(true)?.stiffness,
                 _ => quaternionic(&laplacian()?),
@@ -279,7 +294,7 @@ pub fn spectrum_with_progress(
                 &stiffness,
                 &mass,
                 &masses,
-                constant_mode,
+                constant_mode && options.operator != Operator::ModifiedDirichlet,
                 progress,
             )?;
             (mapped, (stiffness, mass))
@@ -358,6 +373,22 @@ fn blend(
         .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
+/// `L + M diag(U)`: the modified Dirichlet Hessian with the Willmore potential `U`.
+fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError> {
+    let weighted: Vec<f64> = barycentric_masses(mesh)
+        .iter()
+        .zip(willmore_potential(mesh))
+        .map(|(m, u)| m * u)
+        .collect();
+    SparseMatrix::linear_combination(
+        1.0,
+        &cotan_laplacian(mesh),
+        1.0,
+        &SparseMatrix::from_diagonal(&weighted),
+    )
+    .map_err(|e| SpectrumError::Operator(e.into()))
+}
+
 /// The mesh with positions multiplied by `s`.
 fn scaled_mesh(mesh: &TriMesh, s: f64) -> TriMesh {
     let positions = mesh.positions().iter().map(|p| p.map(|c| c * s)).collect();
@@ -386,6 +417,7 @@ fn natural_regularization(
     let laplacian = || quaternionic(&cotan_laplacian(mesh));
     let stiffness = match operator {
         Operator::Laplace | Operator::FamilyLiteral { .. } => laplacian(),
+        Operator::ModifiedDirichlet => quaternionic(&modified_dirichlet(mesh)?),
         Operator::ExtrinsicDirac => DiracPencil::new(mesh, &extrinsic_dirac(mesh)?)?.stiffness,
         Operator::RelativeDirac | Operator::Squared => {
             DiracPencil::new(mesh, &normal_dirac(mesh)?)?.stiffness
@@ -527,7 +559,7 @@ fn shifted_spectrum(
     } else {
         vec![]
     };
-    solve_mapped(
+    let mut mapped = solve_mapped(
         options,
         mass,
         &s,
@@ -537,7 +569,16 @@ fn shifted_spectrum(
         Which::LargestAlgebraic,
         progress,
         |mu, _| 1.0 / mu - epsilon,
-    )
+    )?;
+    if constant_mode {
+        // The deflation keeps `𝟙* S x = ε 𝟙* M x + 𝟙* S₀ x = 0`, where rounding in `𝟙* S₀ x`
+        // (`S₀ 𝟙 = 0`) leaves a constant component of relative size ~ 10⁻¹⁶ λ_max / ε ≈ 10⁻⁶
+        // in the computed vectors; remove it exactly (the constant mode itself comes first).
+        for x in &mut mapped.1[1..] {
+            remove_mass_mean(masses, x);
+        }
+    }
+    Ok(mapped)
 }
 
 /// Pencils `K x = μ (A + εM) x` with `λ = x*Ax / x*Kx`: `K = G` (Dirac operators) or

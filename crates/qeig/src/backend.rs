@@ -167,14 +167,32 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
     }
 }
 
-impl<T: Scalar<Real = f64>> Factor<T> for SparseCholesky<T> {
+/// The native Cholesky factor with the workspace of its solves.
+#[derive(Debug)]
+pub struct NativeFactor<T> {
+    cholesky: SparseCholesky<T>,
+    work: Vec<T>,
+}
+
+impl<T> NativeFactor<T> {
+    fn new(cholesky: SparseCholesky<T>) -> Self {
+        Self {
+            cholesky,
+            work: Vec::new(),
+        }
+    }
+}
+
+impl<T: Scalar<Real = f64>> Factor<T> for NativeFactor<T> {
     fn lower(&mut self, x: &mut [T]) {
-        self.solve_lower_in_place(x)
+        self.cholesky
+            .solve_lower_in_place_with(x, &mut self.work)
             .expect("vector length equals the factor dimension");
     }
 
     fn upper(&mut self, x: &mut [T]) {
-        self.solve_upper_in_place(x)
+        self.cholesky
+            .solve_upper_in_place_with(x, &mut self.work)
             .expect("vector length equals the factor dimension");
     }
 }
@@ -326,7 +344,7 @@ pub struct RealBlock;
 pub struct ComplexAdjoint;
 
 /// The operator of the [`Native`] backend.
-pub type NativeOperator<T> = FactoredPencil<T, SparseCholesky<T>, SparseMatrix<T>>;
+pub type NativeOperator<T> = FactoredPencil<T, NativeFactor<T>, SparseMatrix<T>>;
 /// The operator of the [`RealBlock`] backend.
 pub type RealBlockOperator = FactoredPencil<f64, FaerCholesky<f64>, SparseColMat<usize, f64>>;
 /// The operator of the [`ComplexAdjoint`] backend.
@@ -346,7 +364,7 @@ impl<T: Scalar<Real = f64>> Backend<T> for Native {
         k: &SparseMatrix<T>,
         s: &SparseMatrix<T>,
     ) -> Result<Self::Operator, EigError<T>> {
-        let factor = SparseCholesky::factorize(s)?;
+        let factor = NativeFactor::new(SparseCholesky::factorize(s)?);
         Ok(FactoredPencil::new(factor, k.clone(), s.clone(), s.nrows()))
     }
 

@@ -130,7 +130,7 @@ pub(crate) fn inner<V: Scalar<Real = f64>>(v: &[V], w: &[V]) -> V {
         4 => widen(outer_products::<4>(a, b)),
         _ => return v.iter().zip(w).map(|(&x, &y)| x.conj() * y).sum(),
     };
-    combine(s)
+    vector::combine_outer_products(&s)
 }
 
 /// `w ← w + v c`, then `⟨next, w⟩` (zero without `next`), in one sweep over the vectors.
@@ -144,23 +144,21 @@ pub(crate) fn update_then_inner<V: Scalar<Real = f64>>(
         vector::axpy(w, v, c);
         return V::zero();
     };
-    // Row κ: the components of e_κ c, so that (v c)_λ = Σ_κ v_κ (e_κ c)_λ.
-    let mut rows = [[0.0f64; 4]; 4];
-    for (kappa, row) in rows.iter_mut().enumerate().take(V::REAL_DIM) {
-        let ec = [unit::<V>(kappa) * c];
-        row[..V::REAL_DIM].copy_from_slice(V::as_reals(&ec));
+    if V::REAL_DIM == 4 {
+        // Quaternions: qsparse's array-of-structures kernel (one quaternion per register).
+        return vector::axpy_then_inner(w, v, c, next);
     }
+    let rows = vector::unit_products(c);
     let (wr, vr, nr) = (V::as_reals_mut(w), V::as_reals(v), V::as_reals(next));
     let s: [[f64; 4]; 4] = match V::REAL_DIM {
         1 => widen(fused::<1>(wr, vr, narrow(rows), nr)),
         2 => widen(fused::<2>(wr, vr, narrow(rows), nr)),
-        4 => widen(fused::<4>(wr, vr, narrow(rows), nr)),
         _ => {
             vector::axpy(w, v, c);
             return inner(next, w);
         }
     };
-    combine(s)
+    vector::combine_outer_products(&s)
 }
 
 fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
@@ -169,17 +167,6 @@ fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
         o.copy_from_slice(&r[..R]);
     }
     out
-}
-
-/// `Σ_κλ S_κλ conj(e_κ) e_λ`.
-fn combine<V: Scalar<Real = f64>>(s: [[f64; 4]; 4]) -> V {
-    let mut result = V::zero();
-    for (kappa, row) in s.iter().enumerate().take(V::REAL_DIM) {
-        let mut s_kappa = [V::zero()];
-        V::as_reals_mut(&mut s_kappa).copy_from_slice(&row[..V::REAL_DIM]);
-        result += unit::<V>(kappa).conj() * s_kappa[0];
-    }
-    result
 }
 
 fn fused<const R: usize>(

@@ -44,7 +44,7 @@ mod result;
 
 pub use backend::{
     Backend, ComplexAdjoint, ComplexAdjointOperator, Factor, FactoredPencil, FaerCholesky, MatVec,
-    Native, NativeOperator, PencilOperator, RealBlock, RealBlockOperator,
+    Native, NativeFactor, NativeOperator, PencilOperator, RealBlock, RealBlockOperator,
 };
 pub use error::EigError;
 pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};

@@ -165,3 +165,114 @@ pub fn scale<T: Scalar>(x: &mut [T], r: T::Real) {
         *v = v.scale(r);
     }
 }
+
+#[cfg(target_arch = "x86_64")]
+mod quaternion;
+
+/// Whether the quaternion kernels of [`quaternion`] apply to `T` on this CPU.
+#[inline]
+fn quaternion_kernels<T: Scalar<Real = f64>>() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        T::REAL_DIM == 4
+            && std::is_x86_feature_detected!("avx2")
+            && std::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// The components of `e_κ c` for `κ < REAL_DIM` (zero-padded): `x c = Σ_κ x_κ (e_κ c)`, the
+/// columns of the real matrix of `x ↦ x c` (for quaternions the right block `R(c)`).
+pub fn unit_products<T: Scalar<Real = f64>>(c: T) -> [[f64; 4]; 4] {
+    let mut columns = [[0.0; 4]; 4];
+    for (kappa, column) in columns.iter_mut().enumerate().take(T::REAL_DIM) {
+        let product = [unit::<T>(kappa) * c];
+        column[..T::REAL_DIM].copy_from_slice(T::as_reals(&product));
+    }
+    columns
+}
+
+/// `Σ_κλ S_κλ conj(e_κ) e_λ`: the inner product `⟨a, g⟩` from the real outer products
+/// `S_κλ = Σᵣ aᵣ,κ gᵣ,λ` of the components (`κ, λ < REAL_DIM`).
+pub fn combine_outer_products<T: Scalar<Real = f64>>(s: &[[f64; 4]; 4]) -> T {
+    let mut result = T::zero();
+    for (kappa, row) in s.iter().enumerate().take(T::REAL_DIM) {
+        let mut s_kappa = [T::zero()];
+        T::as_reals_mut(&mut s_kappa).copy_from_slice(&row[..T::REAL_DIM]);
+        result += unit::<T>(kappa).conj() * s_kappa[0];
+    }
+    result
+}
+
+/// `g ← g + a x + b y` (coefficients on the right): two columns of a matrix times two
+/// coefficients, reading and writing `g` once. `a` and `b` must be as long as `g`.
+pub fn axpy_two<T: Scalar<Real = f64>>(g: &mut [T], a: &[T], b: &[T], x: T, y: T) {
+    assert!(
+        a.len() == g.len() && b.len() == g.len(),
+        "axpy_two: lengths differ"
+    );
+    #[cfg(target_arch = "x86_64")]
+    if quaternion_kernels::<T>() {
+        let (mx, my) = (unit_products(x), unit_products(y));
+        // SAFETY: AVX2 and FMA are available; `T` has four `f64` components, so the component
+        // slices hold four numbers per entry, with equal lengths (checked above).
+        unsafe {
+            quaternion::multiply_add_two(
+                T::as_reals_mut(g),
+                T::as_reals(a),
+                T::as_reals(b),
+                &mx,
+                &my,
+            )
+        };
+        return;
+    }
+    axpy(g, a, x);
+    axpy(g, b, y);
+}
+
+/// `(⟨a, g⟩, ⟨b, g⟩)`, reading `g` once. `a` and `b` must be as long as `g`.
+pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
+    assert!(
+        a.len() == g.len() && b.len() == g.len(),
+        "inner_two: lengths differ"
+    );
+    #[cfg(target_arch = "x86_64")]
+    if quaternion_kernels::<T>() {
+        // SAFETY: as in `axpy_two`.
+        let (sa, sb) = unsafe {
+            quaternion::outer_products_two(T::as_reals(a), T::as_reals(b), T::as_reals(g))
+        };
+        return (combine_outer_products(&sa), combine_outer_products(&sb));
+    }
+    (inner(a, g), inner(b, g))
+}
+
+/// `w ← w + v c`, then `⟨next, w⟩`, in one sweep (the step of a modified Gram–Schmidt pass:
+/// the update by one basis vector fused with the coefficient of the next). `v` and `next`
+/// must be as long as `w`.
+pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: &[T]) -> T {
+    assert!(
+        v.len() == w.len() && next.len() == w.len(),
+        "axpy_then_inner: lengths differ"
+    );
+    #[cfg(target_arch = "x86_64")]
+    if quaternion_kernels::<T>() {
+        let mc = unit_products(c);
+        // SAFETY: as in `axpy_two`.
+        let s = unsafe {
+            quaternion::multiply_add_then_outer_products(
+                T::as_reals_mut(w),
+                T::as_reals(v),
+                &mc,
+                T::as_reals(next),
+            )
+        };
+        return combine_outer_products(&s);
+    }
+    axpy(w, v, c);
+    inner(next, w)
+}

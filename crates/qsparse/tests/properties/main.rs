@@ -6,3 +6,4 @@ mod common;
 mod embedding;
 mod errors;
 mod ops;
+mod vector;

@@ -1,0 +1,73 @@
+//! Times the two triangular solves of one Lanczos operator application (`C⁻ᴴ` then `C⁻¹`) with
+//! the native Cholesky: quaternion connection Laplacian versus the real Laplacian of the same
+//! icosphere, alternating so that both see the same machine load:
+//! `solve_timing LEVEL REPEATS`.
+
+use std::time::Instant;
+
+use dirac::generators::icosphere;
+use dirac::geometry::{barycentric_masses, cotan_laplacian};
+use qscalar::{Quat, Scalar};
+use qsparse::{SparseCholesky, SparseMatrix, TripletMatrix};
+
+/// A factor and a right-hand side to solve with repeatedly.
+struct Case<T> {
+    chol: SparseCholesky<T>,
+    x: Vec<T>,
+}
+
+impl<T: Scalar<Real = f64>> Case<T> {
+    fn new(a: &SparseMatrix<T>) -> Self {
+        let chol = SparseCholesky::factorize(a).expect("HPD");
+        let x = (0..a.nrows())
+            .map(|i| T::from_real(1.0 + (i % 7) as f64))
+            .collect();
+        Self { chol, x }
+    }
+
+    /// Seconds for `C⁻¹ C⁻ᴴ x`, then `x` normalised.
+    fn time(&mut self) -> f64 {
+        let start = Instant::now();
+        self.chol.solve_upper_in_place(&mut self.x).expect("length");
+        self.chol.solve_lower_in_place(&mut self.x).expect("length");
+        let seconds = start.elapsed().as_secs_f64();
+        let norm = self.x.iter().map(|v| v.abs2()).sum::<f64>().sqrt();
+        self.x.iter_mut().for_each(|v| *v = v.scale(1.0 / norm));
+        seconds
+    }
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let level: u32 = args.next().and_then(|s| s.parse().ok()).unwrap_or(5);
+    let repeats: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(100);
+    let mesh = icosphere(level);
+    let laplacian = cotan_laplacian(&mesh);
+    let mass = barycentric_masses(&mesh);
+    let mut t = TripletMatrix::with_capacity(mass.len(), mass.len(), laplacian.nnz());
+    for (i, j, v) in laplacian.triplets() {
+        t.push(i, j, v + if i == j { mass[i] } else { 0.0 })
+            .expect("valid");
+    }
+    let mut real = Case::<f64>::new(&t.to_csc());
+    let mut quaternion = Case::<Quat<f64>>::new(&dirac_bench::connection_laplacian(level));
+    let (mut q, mut r, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        let (tq, tr) = (quaternion.time(), real.time());
+        q.push(tq);
+        r.push(tr);
+        ratio.push(tq / tr);
+    }
+    let stats = quaternion.chol.stats();
+    println!(
+        "level {level}: n {}, {} supernodes (widest {}), {} factor entries; per pair of solves \
+         (median): quaternion {:.3} ms, real {:.3} ms, ratio {:.2}",
+        stats.n,
+        stats.supernodes,
+        stats.max_supernode_width,
+        stats.factor_entries,
+        dirac_bench::median(&mut q) * 1e3,
+        dirac_bench::median(&mut r) * 1e3,
+        dirac_bench::median(&mut ratio)
+    );
+}

@@ -1,0 +1,234 @@
+//! End-to-end tests of `dirac batch`: per-mesh JSON equal to the library's spectra, a broken
+//! mesh reported without stopping the others (exit code 4), resuming that skips complete
+//! outputs and recomputes missing, truncated or differently configured ones, and list input.
+
+mod support;
+
+use std::fs;
+use std::path::Path;
+
+use dirac::TriMesh;
+use dirac::spectrum::Operator;
+use serde_json::Value;
+
+use support::{bumpy_sphere, dirac, library, scratch, stderr, text, write_off};
+
+/// A directory with two valid meshes and one malformed file, and the valid meshes.
+fn inputs(dir: &Path) -> Vec<(String, TriMesh)> {
+    let meshes = vec![
+        ("a.off".to_string(), bumpy_sphere(1, 1, 0.1)),
+        ("c.off".to_string(), bumpy_sphere(2, 2, 0.1)),
+    ];
+    for (name, mesh) in &meshes {
+        write_off(mesh, dir.join(name));
+    }
+    fs::write(
+        dir.join("b.off"),
+        "OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n",
+    )
+    .expect("the temporary directory is writable");
+    fs::write(dir.join("notes.txt"), "not a mesh").expect("the temporary directory is writable");
+    meshes
+}
+
+/// The summary rows as (mesh file name, status, all fields).
+fn summary(out: &Path) -> Vec<(String, String, Vec<String>)> {
+    let text = fs::read_to_string(out.join("summary.csv")).expect("the summary exists");
+    let mut lines = text.lines();
+    let header = lines.next().expect("a header");
+    assert!(
+        header.starts_with("mesh,status,vertices,faces,converged,seconds,error,lambda_0"),
+        "{header}"
+    );
+    lines
+        .map(|line| {
+            let fields: Vec<String> = line.split(',').map(String::from).collect();
+            let name = Path::new(&fields[0])
+                .file_name()
+                .expect("a file name")
+                .to_string_lossy()
+                .into_owned();
+            (name, fields[1].clone(), fields)
+        })
+        .collect()
+}
+
+fn statuses(out: &Path) -> Vec<(String, String)> {
+    summary(out)
+        .into_iter()
+        .map(|(name, status, _)| (name, status))
+        .collect()
+}
+
+fn pairs(list: &[(&str, &str)]) -> Vec<(String, String)> {
+    list.iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect()
+}
+
+#[test]
+fn batch_computes_reports_failures_and_resumes() {
+    let dir = scratch("batch_dir");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let meshes = inputs(&input);
+    let out = dir.join("out");
+    let k = 5;
+    let args = [
+        "batch",
+        text(&input),
+        "--operator",
+        "relative-dirac",
+        "-k",
+        "5",
+        "--jobs",
+        "2",
+        "--out",
+        text(&out),
+    ];
+
+    // First run: the malformed mesh fails (exit 4, named on stderr), the others complete.
+    let output = dirac(&args);
+    assert_eq!(output.status.code(), Some(4));
+    let message = stderr(&output);
+    assert!(
+        message.contains("b.off") && message.contains("line 4"),
+        "{message}"
+    );
+    assert_eq!(
+        statuses(&out),
+        pairs(&[("a.off", "ok"), ("b.off", "failed"), ("c.off", "ok")])
+    );
+    for (name, mesh) in &meshes {
+        let json: Value = serde_json::from_str(
+            &fs::read_to_string(out.join(format!("{name}.json"))).expect("the JSON exists"),
+        )
+        .expect("valid JSON");
+        assert_eq!(json["converged"], true);
+        assert_eq!(json["vertices"], mesh.vertex_count());
+        assert_eq!(json["operator"], "relative-dirac");
+        let expected = library(mesh, Operator::RelativeDirac, k);
+        let values: Vec<f64> = json["eigenvalues"]
+            .as_array()
+            .expect("an array")
+            .iter()
+            .map(|v| v.as_f64().expect("a number"))
+            .collect();
+        assert_eq!(values.len(), k);
+        for (value, lambda) in values.iter().zip(&expected.eigenvalues) {
+            assert!((value - lambda).abs() <= 1e-8 * lambda.abs(), "{name}");
+        }
+        // The summary row carries the same eigenvalues.
+        let row = summary(&out)
+            .into_iter()
+            .find(|(n, _, _)| n == name)
+            .expect("a row");
+        let listed: f64 = row.2[7].parse().expect("lambda_0");
+        assert!((listed - values[0]).abs() <= 1e-12 * values[0].abs());
+    }
+    assert!(!out.join("b.off.json").exists());
+
+    // Second run: the complete outputs are skipped (not rewritten), the failure persists.
+    let a_json = out.join("a.off.json");
+    let before = fs::metadata(&a_json)
+        .and_then(|m| m.modified())
+        .expect("mtime");
+    let eigenvalue_fields = |out: &Path| -> Vec<Vec<String>> {
+        summary(out)
+            .into_iter()
+            .map(|(_, _, fields)| fields[7..].to_vec())
+            .collect()
+    };
+    let computed = eigenvalue_fields(&out);
+    let output = dirac(&args);
+    assert_eq!(output.status.code(), Some(4));
+    assert_eq!(
+        statuses(&out),
+        pairs(&[
+            ("a.off", "skipped"),
+            ("b.off", "failed"),
+            ("c.off", "skipped")
+        ])
+    );
+    let after = fs::metadata(&a_json)
+        .and_then(|m| m.modified())
+        .expect("mtime");
+    assert_eq!(before, after);
+    // Read back from the JSON, the skipped meshes' eigenvalues are the computed ones exactly.
+    assert_eq!(eigenvalue_fields(&out), computed);
+
+    // Fix the broken mesh, truncate one JSON and delete another: only those are computed.
+    write_off(&bumpy_sphere(1, 3, 0.1), input.join("b.off"));
+    let truncated = fs::read_to_string(&a_json).expect("the JSON exists");
+    fs::write(&a_json, &truncated[..truncated.len() / 2]).expect("writable");
+    fs::remove_file(out.join("c.off.json")).expect("removable");
+    let output = dirac(&args);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(
+        statuses(&out),
+        pairs(&[("a.off", "ok"), ("b.off", "ok"), ("c.off", "ok")])
+    );
+
+    // Other settings (k) make the earlier outputs incomplete; --force recomputes regardless.
+    let mut other_k = args;
+    other_k[5] = "4";
+    assert_eq!(dirac(&other_k).status.code(), Some(0));
+    assert!(statuses(&out).iter().all(|(_, status)| status == "ok"));
+    assert_eq!(dirac(&other_k).status.code(), Some(0));
+    assert!(statuses(&out).iter().all(|(_, status)| status == "skipped"));
+    assert_eq!(
+        dirac(&[&other_k[..], &["--force"]].concat()).status.code(),
+        Some(0)
+    );
+    assert!(statuses(&out).iter().all(|(_, status)| status == "ok"));
+}
+
+#[test]
+fn list_input_with_comments_and_relative_paths() {
+    let dir = scratch("batch_list");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    inputs(&input);
+    let list = dir.join("list.txt");
+    fs::write(
+        &list,
+        "# meshes for the test\nmeshes/c.off\n\n  meshes/a.off  # trailing comment\n",
+    )
+    .expect("writable");
+    let out = dir.join("out");
+    let output = dirac(&[
+        "batch",
+        text(&list),
+        "--operator",
+        "laplace",
+        "-k",
+        "3",
+        "--out",
+        text(&out),
+        "--quiet",
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    // In list order, not sorted.
+    assert_eq!(statuses(&out), pairs(&[("c.off", "ok"), ("a.off", "ok")]));
+}
+
+#[test]
+fn inputs_that_cannot_run_exit_1() {
+    let dir = scratch("batch_errors");
+    let empty = dir.join("empty");
+    fs::create_dir_all(&empty).expect("writable");
+    let out = dir.join("out");
+    let output = dirac(&["batch", text(&empty), "--out", text(&out)]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("no .obj, .off or .ply"));
+
+    let list = dir.join("same-names.txt");
+    fs::write(&list, "x/m.off\ny/m.off\n").expect("writable");
+    let output = dirac(&["batch", text(&list), "--out", text(&out)]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("same file name"));
+
+    let output = dirac(&["batch", "/nonexistent/list.txt", "--out", text(&out)]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("/nonexistent/list.txt"));
+}

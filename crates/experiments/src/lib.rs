@@ -1,0 +1,81 @@
+//! # experiments
+//!
+//! The experiments of "A Dirac Operator for Extrinsic Shape Analysis" (Liu, Jacobson, Crane
+//! 2017, §6) on this implementation, as reusable pieces behind the runnable examples in
+//! `examples/` (see `docs/EXPERIMENTS.md`):
+//!
+//! * [`tori`]: one base torus with several kinds of added detail and random tessellations
+//!   (Fig. 8);
+//! * [`patches`]: textured sphere patches with ragged boundaries under the infinite potential
+//!   well (Fig. 7, Fig. 10);
+//! * [`bumps`]: a surface with an inward and an outward bump, two tessellations,
+//!   correspondence by nearest descriptor (Fig. 12);
+//! * [`flat_vs_curved`]: kernel and small eigenvalues of `D_N` on a cube and a sphere (Fig. 5,
+//!   Fig. 9);
+//! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
+//!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
+//!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
+//!   error; [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
+
+pub mod args;
+pub mod bumps;
+pub mod correspondence;
+pub mod embedding;
+pub mod flat_vs_curved;
+pub mod metrics;
+pub mod patches;
+pub mod plots;
+pub mod report;
+pub mod spectra;
+pub mod tori;
+
+use thiserror::Error;
+
+/// Why an experiment could not run.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ExperimentError {
+    /// A mesh generator rejected its parameters.
+    #[error(transparent)]
+    Generator(#[from] dirac::generators::GeneratorError),
+    /// A generated mesh was invalid.
+    #[error(transparent)]
+    Mesh(#[from] dirac::MeshError),
+    /// A spectrum could not be computed.
+    #[error("{operator} on mesh {mesh}: {source}")]
+    Spectrum {
+        /// The operator's name.
+        operator: String,
+        /// Index of the mesh in its experiment.
+        mesh: usize,
+        /// The failure.
+        source: dirac::spectrum::SpectrumError,
+    },
+    /// A geodesic distance or potential well could not be computed.
+    #[error(transparent)]
+    Well(#[from] dirac::well::WellError),
+    /// A descriptor could not be computed.
+    #[error(transparent)]
+    Descriptor(#[from] dirac::descriptors::DescriptorError),
+    /// An operator could not be assembled.
+    #[error(transparent)]
+    Operator(#[from] dirac::operators::OperatorError),
+    /// A dense eigensolver failed.
+    #[error("dense eigensolver: {0}")]
+    Eigen(String),
+    /// A distance matrix is not square.
+    #[error("the distance matrix is not square")]
+    NotSquare,
+    /// A chart could not be written.
+    #[error(transparent)]
+    Plot(#[from] dirac_cli::plot::PlotError),
+    /// A picture could not be rendered.
+    #[error(transparent)]
+    Render(#[from] dirac_cli::render::RenderError),
+    /// An output file or directory could not be written.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// The command line was not understood.
+    #[error("{0}")]
+    Usage(String),
+}

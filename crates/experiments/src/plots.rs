@@ -1,0 +1,108 @@
+//! The charts the examples write (through `dirac_cli::plot`): mean spectrum per class and the
+//! 2-D embedding of the spectral distances, one file per operator.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use dirac_cli::plot::{PointGroup, Series, plot_points, plot_spectra};
+
+use crate::ExperimentError;
+use crate::embedding::classical_mds;
+use crate::metrics::distance_matrix;
+use crate::spectra::OperatorSpectra;
+
+/// `dir/<prefix>-<operator>.png` with the operator's name in lower case, spaces as `-` and
+/// without parentheses (`L(0.5)` → `l0.5`).
+pub fn plot_path(dir: &Path, prefix: &str, operator: &str) -> PathBuf {
+    let slug: String = operator
+        .to_lowercase()
+        .chars()
+        .filter(|c| !matches!(c, '(' | ')'))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect();
+    dir.join(format!("{prefix}-{slug}.png"))
+}
+
+/// The mean spectrum of each class (entrywise over its members), labelled by class name.
+pub fn class_means(spectra: &[Vec<f64>], labels: &[usize], names: &[String]) -> Vec<Series> {
+    names
+        .iter()
+        .enumerate()
+        .filter_map(|(class, name)| {
+            let members: Vec<&Vec<f64>> = spectra
+                .iter()
+                .zip(labels)
+                .filter(|(_, l)| **l == class)
+                .map(|(s, _)| s)
+                .collect();
+            let length = members.iter().map(|s| s.len()).min()?;
+            let values = (0..length)
+                .map(|i| members.iter().map(|s| s[i]).sum::<f64>() / members.len() as f64)
+                .collect();
+            Some(Series {
+                label: name.clone(),
+                values,
+            })
+        })
+        .collect()
+}
+
+/// Writes, for every operator, `spectra-<operator>.png` (mean spectrum per class) into `dir`
+/// (created if needed); returns the files written.
+pub fn write_spectra_plots(
+    tables: &[OperatorSpectra],
+    labels: &[usize],
+    names: &[String],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ExperimentError> {
+    fs::create_dir_all(dir)?;
+    tables
+        .iter()
+        .map(|table| {
+            let path = plot_path(dir, "spectra", table.operator.name);
+            plot_spectra(
+                &class_means(&table.spectra, labels, names),
+                &format!("{}: mean spectrum per class", table.operator.name),
+                &path,
+            )?;
+            Ok(path)
+        })
+        .collect()
+}
+
+/// Writes, for every operator, `embedding-<operator>.png` (classical MDS of the Euclidean
+/// distances between spectra, one colour per class) into `dir`; returns the files written.
+pub fn write_embedding_plots(
+    tables: &[OperatorSpectra],
+    labels: &[usize],
+    names: &[String],
+    dir: &Path,
+) -> Result<Vec<PathBuf>, ExperimentError> {
+    fs::create_dir_all(dir)?;
+    tables
+        .iter()
+        .map(|table| {
+            let embedded = classical_mds(&distance_matrix(&table.spectra))?;
+            let groups: Vec<PointGroup> = names
+                .iter()
+                .enumerate()
+                .map(|(class, name)| PointGroup {
+                    label: name.clone(),
+                    points: embedded
+                        .iter()
+                        .zip(labels)
+                        .filter(|(_, l)| **l == class)
+                        .map(|(p, _)| *p)
+                        .collect(),
+                })
+                .collect();
+            let path = plot_path(dir, "embedding", table.operator.name);
+            plot_points(
+                &groups,
+                &format!("{}: MDS of spectral distances", table.operator.name),
+                &path,
+            )?;
+            Ok(path)
+        })
+        .collect()
+}

@@ -1,0 +1,89 @@
+//! The vector kernels (plain, two-column and fused, with their runtime-dispatched quaternion
+//! paths) against entry-by-entry scalar arithmetic: `g + a x + b y`, `Σ conj(aᵣ) gᵣ`.
+
+use num_complex::Complex;
+use proptest::prelude::*;
+use qscalar::Quat;
+use qscalar::strategies::ScalarStrategy;
+use qsparse::strategies::vector;
+use qsparse::vector::{axpy, axpy_then_inner, axpy_two, inner, inner_two};
+
+const TOL: f64 = 1e-12;
+
+/// Four vectors of one length (0 to 20, so both the paired loop and its remainder run) and
+/// two coefficients.
+fn inputs<T: ScalarStrategy>() -> impl Strategy<Value = ([Vec<T>; 4], T, T)> {
+    (0..21usize).prop_flat_map(|n| {
+        (
+            [
+                vector::<T>(n),
+                vector::<T>(n),
+                vector::<T>(n),
+                vector::<T>(n),
+            ],
+            T::strategy(4.0),
+            T::strategy(4.0),
+        )
+    })
+}
+
+fn naive_inner<T: ScalarStrategy>(a: &[T], g: &[T]) -> T {
+    a.iter()
+        .zip(g)
+        .fold(T::zero(), |s, (&x, &y)| s + x.conj() * y)
+}
+
+fn close<T: ScalarStrategy>(x: T, y: T, scale: f64) -> bool {
+    (x - y).abs2().sqrt() <= TOL * (1.0 + scale)
+}
+
+fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
+    ([g, a, b, next], x, y): ([Vec<T>; 4], T, T),
+) -> Result<(), TestCaseError> {
+    let scale = [&g, &a, &b, &next]
+        .iter()
+        .flat_map(|v| v.iter())
+        .map(|v| v.abs2())
+        .sum::<f64>()
+        * (1.0 + x.abs2() + y.abs2());
+
+    let mut two = g.clone();
+    axpy_two(&mut two, &a, &b, x, y);
+    let mut one = g.clone();
+    axpy(&mut one, &a, x);
+    for r in 0..g.len() {
+        let expected = g[r] + a[r] * x + b[r] * y;
+        prop_assert!(close(two[r], expected, scale), "axpy_two, entry {r}");
+        prop_assert!(close(one[r], g[r] + a[r] * x, scale), "axpy, entry {r}");
+    }
+
+    let (ia, ib) = inner_two(&a, &b, &g);
+    prop_assert!(close(ia, naive_inner(&a, &g), scale));
+    prop_assert!(close(ib, naive_inner(&b, &g), scale));
+    prop_assert!(close(inner(&a, &g), naive_inner(&a, &g), scale));
+
+    let mut fused = g.clone();
+    let coefficient = axpy_then_inner(&mut fused, &a, x, &next);
+    prop_assert!(close(coefficient, naive_inner(&next, &one), scale));
+    for r in 0..g.len() {
+        prop_assert!(close(fused[r], one[r], scale), "axpy_then_inner, entry {r}");
+    }
+    Ok(())
+}
+
+macro_rules! instantiate {
+    ($($module:ident: $t:ty),*) => {$(
+        mod $module {
+            use super::*;
+
+            proptest! {
+                #[test]
+                fn kernels(input in inputs::<$t>()) {
+                    kernels_match_scalar_arithmetic(input)?;
+                }
+            }
+        }
+    )*};
+}
+
+instantiate!(real: f64, complex: Complex<f64>, quaternion: Quat<f64>);
