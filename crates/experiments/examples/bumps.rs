@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use dirac_cli::render::{Field, RenderOptions, View, render_png};
 use experiments::ExperimentError;
-use experiments::args::ExampleArgs;
+use experiments::args::{ExampleArgs, run_example};
 use experiments::bumps::{BumpsConfig, RADIUS, run};
 
 fn main_run(args: &ExampleArgs) -> Result<(), ExperimentError> {
@@ -66,11 +66,5 @@ fn main_run(args: &ExampleArgs) -> Result<(), ExperimentError> {
 }
 
 fn main() -> ExitCode {
-    match ExampleArgs::parse("bumps", std::env::args().skip(1)).and_then(|a| main_run(&a)) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("{e}");
-            ExitCode::FAILURE
-        }
-    }
+    run_example("bumps", main_run)
 }

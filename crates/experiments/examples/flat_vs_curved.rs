@@ -12,7 +12,7 @@ use dirac::generators::{icosphere, subdivided_cube};
 use dirac::spectrum::Operator;
 use dirac_cli::render::{Field, RenderOptions, render_png};
 use experiments::ExperimentError;
-use experiments::args::ExampleArgs;
+use experiments::args::{ExampleArgs, run_example};
 use experiments::flat_vs_curved::{SMALL, eigenfunction_magnitudes, kernel_counts};
 
 fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
@@ -78,11 +78,5 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
 }
 
 fn main() -> ExitCode {
-    match ExampleArgs::parse("flat_vs_curved", std::env::args().skip(1)).and_then(|a| run(&a)) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("{e}");
-            ExitCode::FAILURE
-        }
-    }
+    run_example("flat_vs_curved", run)
 }

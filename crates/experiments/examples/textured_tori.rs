@@ -10,11 +10,10 @@ use std::time::Instant;
 
 use dirac::spectrum::Normalization;
 use experiments::ExperimentError;
-use experiments::args::ExampleArgs;
-use experiments::plots::{write_embedding_plots, write_spectra_plots};
-use experiments::report::{format_rows, score_rows};
+use experiments::args::{ExampleArgs, run_example};
+use experiments::report::report_classification;
 use experiments::spectra::{
-    DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, OperatorSpectra, RELATIVE_DIRAC, compute_spectra,
+    DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, RELATIVE_DIRAC, compute_spectra,
 };
 use experiments::tori::{ToriConfig, meshes, texture_classes};
 
@@ -52,38 +51,12 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
         Normalization::UnitArea,
         &|_| None,
     )?;
-    let magnitudes: Vec<OperatorSpectra> = tables.iter().map(OperatorSpectra::magnitudes).collect();
-    println!("\nspectra of |λ| (the paper's default, §7):");
-    println!(
-        "{}",
-        format_rows(&score_rows(&magnitudes, &labels, STARTS, SEED))
-    );
-    println!("signed spectra (λ ordered by |λ|):");
-    println!(
-        "{}",
-        format_rows(&score_rows(&tables, &labels, STARTS, SEED))
-    );
     let names: Vec<String> = classes.iter().map(|c| c.name.clone()).collect();
-    let mut written = write_spectra_plots(&magnitudes, &labels, &names, &args.out)?;
-    written.extend(write_embedding_plots(
-        &magnitudes,
-        &labels,
-        &names,
-        &args.out,
-    )?);
-    for path in written {
-        println!("wrote {}", path.display());
-    }
+    report_classification(&tables, &labels, &names, (STARTS, SEED), &args.out)?;
     println!("total {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 
 fn main() -> ExitCode {
-    match ExampleArgs::parse("textured_tori", std::env::args().skip(1)).and_then(|a| run(&a)) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("{e}");
-            ExitCode::FAILURE
-        }
-    }
+    run_example("textured_tori", run)
 }

@@ -65,3 +65,18 @@ impl ExampleArgs {
         Ok(parsed)
     }
 }
+
+/// The `main` of every example: parses the arguments for the example `name`, runs `run`, prints
+/// an error to stderr and turns the outcome into the exit code (1 on any error).
+pub fn run_example(
+    name: &str,
+    run: impl FnOnce(&ExampleArgs) -> Result<(), ExperimentError>,
+) -> std::process::ExitCode {
+    match ExampleArgs::parse(name, std::env::args().skip(1)).and_then(|args| run(&args)) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("{error}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

@@ -1,6 +1,10 @@
 //! Scores of every operator's spectra and the table the examples print.
 
+use std::path::Path;
+
+use crate::ExperimentError;
 use crate::metrics::Scores;
+use crate::plots::{write_embedding_plots, write_spectra_plots};
 use crate::spectra::OperatorSpectra;
 
 /// One operator's row: scores and cost.
@@ -50,4 +54,31 @@ pub fn format_rows(rows: &[ScoreRow]) -> String {
         ));
     }
     out
+}
+
+/// What the classification experiments (tori, patches) print and draw: the score table of the
+/// `|λ|` spectra (the paper's default, §7) and of the signed ones, then the mean-spectrum and
+/// embedding plots of the `|λ|` spectra per operator, written into `out`. k-means uses
+/// `starts` random starts seeded by `seed`.
+pub fn report_classification(
+    tables: &[OperatorSpectra],
+    labels: &[usize],
+    names: &[String],
+    (starts, seed): (usize, u64),
+    out: &Path,
+) -> Result<(), ExperimentError> {
+    let magnitudes: Vec<OperatorSpectra> = tables.iter().map(OperatorSpectra::magnitudes).collect();
+    println!("\nspectra of |λ| (the paper's default, §7):");
+    println!(
+        "{}",
+        format_rows(&score_rows(&magnitudes, labels, starts, seed))
+    );
+    println!("signed spectra (λ ordered by |λ|):");
+    println!("{}", format_rows(&score_rows(tables, labels, starts, seed)));
+    let mut written = write_spectra_plots(&magnitudes, labels, names, out)?;
+    written.extend(write_embedding_plots(&magnitudes, labels, names, out)?);
+    for path in written {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
 }

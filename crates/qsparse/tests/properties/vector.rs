@@ -71,19 +71,19 @@ fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
     Ok(())
 }
 
-macro_rules! instantiate {
-    ($($module:ident: $t:ty),*) => {$(
-        mod $module {
-            use super::*;
+proptest! {
+    #[test]
+    fn real_kernels(input in inputs::<f64>()) {
+        kernels_match_scalar_arithmetic(input)?;
+    }
 
-            proptest! {
-                #[test]
-                fn kernels(input in inputs::<$t>()) {
-                    kernels_match_scalar_arithmetic(input)?;
-                }
-            }
-        }
-    )*};
+    #[test]
+    fn complex_kernels(input in inputs::<Complex<f64>>()) {
+        kernels_match_scalar_arithmetic(input)?;
+    }
+
+    #[test]
+    fn quaternion_kernels(input in inputs::<Quat<f64>>()) {
+        kernels_match_scalar_arithmetic(input)?;
+    }
 }
-
-instantiate!(real: f64, complex: Complex<f64>, quaternion: Quat<f64>);
