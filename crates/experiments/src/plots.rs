@@ -55,19 +55,14 @@ pub fn write_spectra_plots(
     names: &[String],
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
-    fs::create_dir_all(dir)?;
-    tables
-        .iter()
-        .map(|table| {
-            let path = plot_path(dir, "spectra", table.operator.name);
-            plot_spectra(
-                &class_means(&table.spectra, labels, names),
-                &format!("{}: mean spectrum per class", table.operator.name),
-                &path,
-            )?;
-            Ok(path)
-        })
-        .collect()
+    for_each_operator(tables, dir, "spectra", |table, path| {
+        plot_spectra(
+            &class_means(&table.spectra, labels, names),
+            &format!("{}: mean spectrum per class", table.operator.name),
+            path,
+        )?;
+        Ok(())
+    })
 }
 
 /// Writes, for every operator, `embedding-<operator>.png` (classical MDS of the Euclidean
@@ -78,30 +73,44 @@ pub fn write_embedding_plots(
     names: &[String],
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
+    for_each_operator(tables, dir, "embedding", |table, path| {
+        let embedded = classical_mds(&distance_matrix(&table.spectra))?;
+        let groups: Vec<PointGroup> = names
+            .iter()
+            .enumerate()
+            .map(|(class, name)| PointGroup {
+                label: name.clone(),
+                points: embedded
+                    .iter()
+                    .zip(labels)
+                    .filter(|(_, l)| **l == class)
+                    .map(|(p, _)| *p)
+                    .collect(),
+            })
+            .collect();
+        plot_points(
+            &groups,
+            &format!("{}: MDS of spectral distances", table.operator.name),
+            path,
+        )?;
+        Ok(())
+    })
+}
+
+/// Creates `dir` and calls `draw` with every operator's table and its file
+/// `<prefix>-<operator>.png`; returns the files.
+fn for_each_operator(
+    tables: &[OperatorSpectra],
+    dir: &Path,
+    prefix: &str,
+    mut draw: impl FnMut(&OperatorSpectra, &Path) -> Result<(), ExperimentError>,
+) -> Result<Vec<PathBuf>, ExperimentError> {
     fs::create_dir_all(dir)?;
     tables
         .iter()
         .map(|table| {
-            let embedded = classical_mds(&distance_matrix(&table.spectra))?;
-            let groups: Vec<PointGroup> = names
-                .iter()
-                .enumerate()
-                .map(|(class, name)| PointGroup {
-                    label: name.clone(),
-                    points: embedded
-                        .iter()
-                        .zip(labels)
-                        .filter(|(_, l)| **l == class)
-                        .map(|(p, _)| *p)
-                        .collect(),
-                })
-                .collect();
-            let path = plot_path(dir, "embedding", table.operator.name);
-            plot_points(
-                &groups,
-                &format!("{}: MDS of spectral distances", table.operator.name),
-                &path,
-            )?;
+            let path = plot_path(dir, prefix, table.operator.name);
+            draw(table, &path)?;
             Ok(path)
         })
         .collect()

@@ -57,13 +57,6 @@ impl<V: Scalar<Real = f64>> Basis<V> {
     }
 }
 
-/// The units `e₀ … e_{R−1}` of `V` (`1, i, j, k` for quaternions).
-pub(crate) fn unit<V: Scalar<Real = f64>>(c: usize) -> V {
-    let mut e = [V::zero()];
-    V::as_reals_mut(&mut e)[c] = 1.0;
-    e[0]
-}
-
 /// The Gram–Schmidt passes (no workspace: the kernels allocate nothing).
 #[derive(Debug)]
 pub(crate) struct GramSchmidt<V>(PhantomData<V>);

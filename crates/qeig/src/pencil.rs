@@ -19,7 +19,7 @@ use std::time::Instant;
 use qscalar::Scalar;
 use qsparse::{DenseMatrix, SparseMatrix, vector};
 
-use crate::basis::{Basis, GramSchmidt, append_orthonormal, unit};
+use crate::basis::{Basis, GramSchmidt, append_orthonormal};
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
 use crate::{
@@ -139,7 +139,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let mut coef = Vec::new();
         for d in &self.deflation {
             for c in 0..T::REAL_DIM {
-                let e: T = unit(c);
+                let e: T = vector::unit(c);
                 let dc: Vec<T> = d.iter().map(|&x| x * e).collect();
                 let mut y = op.adjoint_factor(&backend.embed(&dc));
                 append_orthonormal(&mut basis, &mut gs, &mut y, &mut coef);

@@ -38,7 +38,6 @@ fn inner_kernel<T: Scalar, const FUSED: bool>(x: &[T], y: &[T]) -> T {
     if x.len().min(y.len()) < 4 {
         return x.iter().zip(y).map(|(&a, &b)| a.conj() * b).sum();
     }
-    let r = T::REAL_DIM;
     let mut outer = [[T::Real::zero(); 4]; 4];
     for (a, b) in x.iter().zip(y) {
         let (a, b) = ([*a], [*b]);
@@ -49,19 +48,13 @@ fn inner_kernel<T: Scalar, const FUSED: bool>(x: &[T], y: &[T]) -> T {
             }
         }
     }
-    // Σ_κλ S_κλ conj(e_κ) e_λ = Σ_κ conj(e_κ) s_κ with s_κ = Σ_λ S_κλ e_λ.
-    let mut result = T::zero();
-    for (kappa, row) in outer.iter().enumerate().take(r) {
-        let mut s_kappa = [T::zero()];
-        T::as_reals_mut(&mut s_kappa).copy_from_slice(&row[..r]);
-        result += unit::<T>(kappa).conj() * s_kappa[0];
-    }
-    result
+    combine_outer_products(&outer)
 }
 
-/// The unit `e_κ` whose only non-zero component is component `κ` (1, i, j, k for quaternions).
+/// The unit `e_κ` whose only non-zero component is component `κ` (1, i, j, k for quaternions;
+/// `κ < REAL_DIM`).
 #[inline(always)]
-fn unit<T: Scalar>(kappa: usize) -> T {
+pub fn unit<T: Scalar>(kappa: usize) -> T {
     let mut e = [T::zero()];
     T::as_reals_mut(&mut e)[kappa] = T::Real::one();
     e[0]
@@ -137,12 +130,9 @@ impl<T: Scalar> RightMultiplier<T> {
     /// Precomputes `x ↦ x c`.
     #[inline(always)]
     fn new(c: T) -> Self {
-        let mut columns = [[T::Real::zero(); 4]; 4];
-        for (kappa, column) in columns.iter_mut().enumerate().take(T::REAL_DIM) {
-            let product = [unit::<T>(kappa) * c];
-            column[..T::REAL_DIM].copy_from_slice(T::as_reals(&product));
+        Self {
+            columns: unit_products(c),
         }
-        Self { columns }
     }
 
     /// `acc ← acc + x c`.
@@ -186,8 +176,8 @@ fn quaternion_kernels<T: Scalar<Real = f64>>() -> bool {
 
 /// The components of `e_κ c` for `κ < REAL_DIM` (zero-padded): `x c = Σ_κ x_κ (e_κ c)`, the
 /// columns of the real matrix of `x ↦ x c` (for quaternions the right block `R(c)`).
-pub fn unit_products<T: Scalar<Real = f64>>(c: T) -> [[f64; 4]; 4] {
-    let mut columns = [[0.0; 4]; 4];
+pub fn unit_products<T: Scalar>(c: T) -> [[T::Real; 4]; 4] {
+    let mut columns = [[T::Real::zero(); 4]; 4];
     for (kappa, column) in columns.iter_mut().enumerate().take(T::REAL_DIM) {
         let product = [unit::<T>(kappa) * c];
         column[..T::REAL_DIM].copy_from_slice(T::as_reals(&product));
@@ -197,7 +187,7 @@ pub fn unit_products<T: Scalar<Real = f64>>(c: T) -> [[f64; 4]; 4] {
 
 /// `Σ_κλ S_κλ conj(e_κ) e_λ`: the inner product `⟨a, g⟩` from the real outer products
 /// `S_κλ = Σᵣ aᵣ,κ gᵣ,λ` of the components (`κ, λ < REAL_DIM`).
-pub fn combine_outer_products<T: Scalar<Real = f64>>(s: &[[f64; 4]; 4]) -> T {
+pub fn combine_outer_products<T: Scalar>(s: &[[T::Real; 4]; 4]) -> T {
     let mut result = T::zero();
     for (kappa, row) in s.iter().enumerate().take(T::REAL_DIM) {
         let mut s_kappa = [T::zero()];
@@ -208,7 +198,10 @@ pub fn combine_outer_products<T: Scalar<Real = f64>>(s: &[[f64; 4]; 4]) -> T {
 }
 
 /// `g ← g + a x + b y` (coefficients on the right): two columns of a matrix times two
-/// coefficients, reading and writing `g` once. `a` and `b` must be as long as `g`.
+/// coefficients, reading and writing `g` once.
+///
+/// # Panics
+/// If `a` or `b` is not as long as `g`.
 pub fn axpy_two<T: Scalar<Real = f64>>(g: &mut [T], a: &[T], b: &[T], x: T, y: T) {
     assert!(
         a.len() == g.len() && b.len() == g.len(),
@@ -234,7 +227,10 @@ pub fn axpy_two<T: Scalar<Real = f64>>(g: &mut [T], a: &[T], b: &[T], x: T, y: T
     axpy(g, b, y);
 }
 
-/// `(⟨a, g⟩, ⟨b, g⟩)`, reading `g` once. `a` and `b` must be as long as `g`.
+/// `(⟨a, g⟩, ⟨b, g⟩)`, reading `g` once.
+///
+/// # Panics
+/// If `a` or `b` is not as long as `g`.
 pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
     assert!(
         a.len() == g.len() && b.len() == g.len(),
@@ -252,8 +248,10 @@ pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
 }
 
 /// `w ← w + v c`, then `⟨next, w⟩`, in one sweep (the step of a modified Gram–Schmidt pass:
-/// the update by one basis vector fused with the coefficient of the next). `v` and `next`
-/// must be as long as `w`.
+/// the update by one basis vector fused with the coefficient of the next).
+///
+/// # Panics
+/// If `v` or `next` is not as long as `w`.
 pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: &[T]) -> T {
     assert!(
         v.len() == w.len() && next.len() == w.len(),

@@ -20,7 +20,7 @@ use faer::linalg::matmul::matmul;
 use faer::{Accum, MatMut, MatRef, Par};
 use qscalar::Scalar;
 
-use crate::vector::axpy;
+use crate::vector::{axpy, unit};
 
 /// Below this many scalar multiply-adds the direct loop beats packing plus a real GEMM.
 const PACKED_GEMM_THRESHOLD: usize = 4096;
@@ -77,12 +77,11 @@ pub(crate) fn gemm_adjoint<T: Scalar<Real = f64>>(
     let rk = r * k;
     work.packed_rhs.clear();
     work.packed_rhs.resize(rk * r * n, 0.0);
-    let basis = unit_basis::<T>();
     for l in 0..k {
         for j in 0..n {
             let b_conj = b[l * ldb + j].conj();
-            for (kappa, &e) in basis[..r].iter().enumerate() {
-                let product = e * b_conj;
+            for kappa in 0..r {
+                let product = unit::<T>(kappa) * b_conj;
                 for (comp, &value) in T::as_reals(core::slice::from_ref(&product))
                     .iter()
                     .enumerate()
@@ -112,17 +111,6 @@ pub(crate) fn gemm_adjoint<T: Scalar<Real = f64>>(
             }
         }
     }
-}
-
-/// The units `e_κ` (`1, i, j, k` for quaternions) whose components are the standard basis.
-fn unit_basis<T: Scalar<Real = f64>>() -> [T; 4] {
-    core::array::from_fn(|kappa| {
-        let mut e = [T::zero()];
-        if kappa < T::REAL_DIM {
-            T::as_reals_mut(&mut e)[kappa] = 1.0;
-        }
-        e[0]
-    })
 }
 
 /// Factorises the supernode block `L` (`m × w`, leading dimension `m`) in place: the top `w × w`
