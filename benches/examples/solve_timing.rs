@@ -1,14 +1,14 @@
 //! Times the two triangular solves of one Lanczos operator application (`C⁻ᴴ` then `C⁻¹`) with
 //! the native Cholesky: quaternion connection Laplacian versus the real Laplacian of the same
-//! icosphere, alternating so that both see the same machine load:
-//! `solve_timing LEVEL REPEATS`.
+//! icosphere, each on one and on two threads ([`SolveThreads`]), alternating so that all see
+//! the same machine load: `solve_timing LEVEL REPEATS`.
 
 use std::time::Instant;
 
 use dirac::generators::icosphere;
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use qscalar::{Quat, Scalar};
-use qsparse::{SparseCholesky, SparseMatrix, TripletMatrix};
+use qsparse::{SolveThreads, SparseCholesky, SparseMatrix, TripletMatrix};
 
 /// A factor and a right-hand side to solve with repeatedly.
 struct Case<T> {
@@ -25,8 +25,9 @@ impl<T: Scalar<Real = f64>> Case<T> {
         Self { chol, x }
     }
 
-    /// Seconds for `C⁻¹ C⁻ᴴ x`, then `x` normalised.
-    fn time(&mut self) -> f64 {
+    /// Seconds for `C⁻¹ C⁻ᴴ x` with `threads`, then `x` normalised.
+    fn time(&mut self, threads: SolveThreads) -> f64 {
+        self.chol.set_solve_threads(threads);
         let start = Instant::now();
         self.chol.solve_upper_in_place(&mut self.x).expect("length");
         self.chol.solve_lower_in_place(&mut self.x).expect("length");
@@ -51,23 +52,30 @@ fn main() {
     }
     let mut real = Case::<f64>::new(&t.to_csc());
     let mut quaternion = Case::<Quat<f64>>::new(&dirac_bench::connection_laplacian(level));
-    let (mut q, mut r, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    // [quaternion one, quaternion two, real one, real two]
+    let mut samples: [Vec<f64>; 4] = Default::default();
+    let mut ratio = Vec::new();
     for _ in 0..repeats {
-        let (tq, tr) = (quaternion.time(), real.time());
-        q.push(tq);
-        r.push(tr);
-        ratio.push(tq / tr);
+        for (i, threads) in [SolveThreads::One, SolveThreads::Two]
+            .into_iter()
+            .enumerate()
+        {
+            samples[i].push(quaternion.time(threads));
+            samples[2 + i].push(real.time(threads));
+        }
+        ratio.push(samples[1].last().expect("pushed") / samples[3].last().expect("pushed"));
     }
+    let [q1, q2, r1, r2] = samples.map(|mut s| dirac_bench::median(&mut s) * 1e3);
     let stats = quaternion.chol.stats();
     println!(
-        "level {level}: n {}, {} supernodes (widest {}), {} factor entries; per pair of solves \
-         (median): quaternion {:.3} ms, real {:.3} ms, ratio {:.2}",
+        "level {level}: n {}, {} supernodes (widest {}), {} factor entries, split {:?}; per pair of \
+         solves (median, one / two threads): quaternion {q1:.3} / {q2:.3} ms, real {r1:.3} / \
+         {r2:.3} ms, quaternion ÷ real on two threads {:.2}",
         stats.n,
         stats.supernodes,
         stats.max_supernode_width,
         stats.factor_entries,
-        dirac_bench::median(&mut q) * 1e3,
-        dirac_bench::median(&mut r) * 1e3,
+        stats.split_columns,
         dirac_bench::median(&mut ratio)
     );
 }

@@ -14,6 +14,7 @@
 //! the same code for `f64`, complex numbers and quaternions.
 
 use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use faer::MatRef;
 use qscalar::Scalar;
@@ -72,16 +73,14 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
     /// Column by column, each update `w −= vᵢ cᵢ` fused with the next coefficient
     /// `⟨vᵢ₊₁, w⟩` in one sweep: each basis vector is read from memory once per pass (the
     /// second read finds it in cache), where a classical pass reads the whole basis twice.
+    ///
+    /// Long vectors are split by rows between two threads (the sweep is bound by the latency
+    /// of its loads, so two cores nearly halve it): each sweeps its rows, and after every
+    /// column the two partial coefficients are exchanged through [`Exchange`] and added in a
+    /// fixed order (first half, then second), so that both threads use the same coefficient
+    /// and the result does not depend on timing.
     fn pass(&self, basis: &Basis<V>, m: usize, w: &mut [V], coef: &mut [V]) {
-        if m == 0 {
-            return;
-        }
-        let mut c = inner(basis.col(0), w);
-        for i in 0..m {
-            coef[i] += c;
-            let next = (i + 1 < m).then(|| basis.col(i + 1));
-            c = update_then_inner(w, basis.col(i), V::zero() - c, next);
-        }
+        pass(basis, m, w, coef, w.len() * V::REAL_DIM >= PARALLEL_REALS);
     }
 
     /// Orthogonalises `w` against columns `0..m` of `basis`, with a second pass when the first
@@ -108,6 +107,132 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
             }
         }
         (before, last)
+    }
+}
+
+/// Vectors of at least this many reals are orthogonalised on two threads: below it, the
+/// exchange after every column costs more than half a column's sweep saves.
+const PARALLEL_REALS: usize = 1 << 15;
+
+/// The meeting point of the two threads of a Gram–Schmidt pass: per thread, a partial
+/// coefficient for each column parity (double buffering: a thread can be at most one column
+/// ahead) and the number of partials published so far.
+struct Exchange {
+    partials: [[[AtomicU64; 4]; 2]; 2],
+    published: [AtomicUsize; 2],
+}
+
+impl Exchange {
+    fn new() -> Self {
+        Self {
+            partials: Default::default(),
+            published: Default::default(),
+        }
+    }
+
+    /// Publishes thread `half`'s partial coefficient of column `i`, waits for the other
+    /// thread's, and returns their sum (first half + second half, on both threads).
+    fn total<V: Scalar<Real = f64>>(&self, half: usize, i: usize, partial: V) -> V {
+        let slot = &self.partials[half][i % 2];
+        for (cell, &x) in slot.iter().zip(V::as_reals(&[partial])) {
+            cell.store(x.to_bits(), Ordering::Relaxed);
+        }
+        self.published[half].store(i + 1, Ordering::Release);
+        let other = 1 - half;
+        let mut spins = 0u32;
+        while self.published[other].load(Ordering::Acquire) <= i {
+            spins += 1;
+            if spins < 1 << 12 {
+                std::hint::spin_loop();
+            } else {
+                // The other thread is descheduled (a busy machine): give it the core.
+                std::thread::yield_now();
+            }
+        }
+        let mut theirs = [V::zero()];
+        for (x, cell) in V::as_reals_mut(&mut theirs)
+            .iter_mut()
+            .zip(&self.partials[other][i % 2])
+        {
+            *x = f64::from_bits(cell.load(Ordering::Relaxed));
+        }
+        let (a, b) = if half == 0 {
+            (partial, theirs[0])
+        } else {
+            (theirs[0], partial)
+        };
+        a + b
+    }
+}
+
+/// [`GramSchmidt::pass`], on two threads if `two_threads`.
+fn pass<V: Scalar<Real = f64>>(
+    basis: &Basis<V>,
+    m: usize,
+    w: &mut [V],
+    coef: &mut [V],
+    two_threads: bool,
+) {
+    if m == 0 {
+        return;
+    }
+    let n = w.len();
+    if !two_threads {
+        sweep(basis, m, 0..n, w, Some(coef), |_, c| c);
+        return;
+    }
+    let split = n / 2;
+    let (first, second) = w.split_at_mut(split);
+    let exchange = Exchange::new();
+    let exchange = &exchange;
+    std::thread::scope(|scope| {
+        scope.spawn(|| {
+            let _abandon = Abandon(&exchange.published[1]);
+            sweep(basis, m, split..n, second, None, |i, c| {
+                exchange.total(1, i, c)
+            });
+        });
+        let _abandon = Abandon(&exchange.published[0]);
+        sweep(basis, m, 0..split, first, Some(coef), |i, c| {
+            exchange.total(0, i, c)
+        });
+    });
+}
+
+/// The fused modified Gram–Schmidt sweep over the rows `rows` (held by `w`) of columns `0..m`;
+/// `total(i, partial)` turns the partial coefficient of column `i` over these rows into the
+/// full one. Adds the coefficients to `coef` if given.
+fn sweep<V: Scalar<Real = f64>>(
+    basis: &Basis<V>,
+    m: usize,
+    rows: std::ops::Range<usize>,
+    w: &mut [V],
+    mut coef: Option<&mut [V]>,
+    total: impl Fn(usize, V) -> V,
+) {
+    let column = |i: usize| &basis.col(i)[rows.clone()];
+    let mut c = total(0, inner(column(0), w));
+    for i in 0..m {
+        if let Some(coef) = coef.as_deref_mut() {
+            coef[i] += c;
+        }
+        let next = (i + 1 < m).then(|| column(i + 1));
+        let partial = update_then_inner(w, column(i), V::zero() - c, next);
+        if i + 1 < m {
+            c = total(i + 1, partial);
+        }
+    }
+}
+
+/// Marks a thread's side of an [`Exchange`] as abandoned if the thread panics, so that the
+/// other thread stops waiting (and the scope then propagates the panic) instead of hanging.
+struct Abandon<'a>(&'a AtomicUsize);
+
+impl Drop for Abandon<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.store(usize::MAX, Ordering::Release);
+        }
     }
 }
 
@@ -371,6 +496,43 @@ mod tests {
         check::<f64>();
         check::<Complex<f64>>();
         check::<Quat<f64>>();
+    }
+
+    /// The two-thread pass gives the one-thread result up to rounding, for vectors long
+    /// enough to take it by default.
+    fn two_threads_match_one<V: Scalar<Real = f64>>() {
+        let n = PARALLEL_REALS / V::REAL_DIM + 3;
+        let mut rng = qscalar::random::SplitMix64::new(5);
+        let mut basis = Basis::<V>::new(n);
+        let mut gs = GramSchmidt::new();
+        let mut coef = Vec::new();
+        for _ in 0..5 {
+            let mut v = vec![V::zero(); n];
+            rng.fill_symmetric(&mut v);
+            assert!(append_orthonormal(&mut basis, &mut gs, &mut v, &mut coef));
+        }
+        let mut w = vec![V::zero(); n];
+        rng.fill_symmetric(&mut w);
+        let (mut one, mut two) = (w.clone(), w);
+        let (mut coef_one, mut coef_two) = (vec![V::zero(); 5], vec![V::zero(); 5]);
+        pass(&basis, 5, &mut one, &mut coef_one, false);
+        pass(&basis, 5, &mut two, &mut coef_two, true);
+        for (a, b) in coef_one.iter().zip(&coef_two) {
+            assert!((*a - *b).abs() < 1e-12, "coefficients differ");
+        }
+        for (a, b) in one.iter().zip(&two) {
+            assert!((*a - *b).abs() < 1e-12, "vectors differ");
+        }
+        for i in 0..5 {
+            assert!(vector::inner(basis.col(i), &two).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn two_thread_pass() {
+        two_threads_match_one::<f64>();
+        two_threads_match_one::<Complex<f64>>();
+        two_threads_match_one::<Quat<f64>>();
     }
 
     #[test]

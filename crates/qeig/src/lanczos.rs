@@ -150,6 +150,8 @@ pub(crate) struct Outcome<V> {
 
 /// Steps between early convergence checks.
 const CHECK_INTERVAL: usize = 10;
+/// Multiply-adds from which the Ritz vectors `Q Y` of a restart are computed on all cores.
+const PARALLEL_RITZ_FLOPS: usize = 1 << 24;
 
 /// Rounding level of an estimated residual relative to `‖A‖`: a Ritz pair with
 /// `|βₘ yₘ| ≤ ROUNDING ‖A‖` is an eigenpair of the computed operator up to the rounding errors
@@ -401,13 +403,19 @@ where
                     V::REAL_DIM * n,
                     selection.len(),
                 );
+                // The one compute-bound step: on all cores once it is large (a few per run).
+                let par = if V::REAL_DIM * n * size * selection.len() >= PARALLEL_RITZ_FLOPS {
+                    Par::rayon(0)
+                } else {
+                    Par::Seq
+                };
                 matmul(
                     out,
                     Accum::Replace,
                     basis.reals(base, size),
                     ysel.as_ref(),
                     1.0,
-                    Par::Seq,
+                    par,
                 );
             }
             if !invariant {

@@ -21,7 +21,7 @@ pub mod strategies;
 mod triplet;
 pub mod vector;
 
-pub use cholesky::{CholeskyStats, SparseCholesky, SymbolicCholesky};
+pub use cholesky::{CholeskyStats, SolveThreads, SparseCholesky, SymbolicCholesky};
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
 pub use error::{CholeskyError, SparseError};

@@ -2,7 +2,8 @@
 //! random sparse HPD systems (one and many right-hand sides), the triangular halves
 //! (`C⁻¹ A C⁻ᴴ = I`), refactorisation, agreement with faer's sparse Cholesky on the same matrix
 //! and on the real-block and complex-adjoint embeddings, large supernodes (panel blocking and
-//! the packed GEMM), and typed errors for every kind of bad input.
+//! the packed GEMM), solves on two threads against one, and typed errors for every kind of
+//! bad input.
 
 use faer::linalg::solvers::Solve;
 use faer::{ColMut, Side};
@@ -13,7 +14,9 @@ use qscalar::strategies::ScalarStrategy;
 use qscalar::{Quat, Scalar};
 use qsparse::embedding::{complex_adjoint_vector, from_complex_adjoint_vector};
 use qsparse::strategies::{hpd_matrix, vector};
-use qsparse::{CholeskyError, SparseCholesky, SparseMatrix, SymbolicCholesky, TripletMatrix};
+use qsparse::{
+    CholeskyError, SolveThreads, SparseCholesky, SparseMatrix, SymbolicCholesky, TripletMatrix,
+};
 
 use crate::common::{
     Lcg, assert_close, grid_connection_laplacian, relative_residual, to_faer, unit_from_components,
@@ -199,6 +202,49 @@ fn non_finite_is_rejected<T: ScalarStrategy>(
     Ok(())
 }
 
+/// The half-solves and the full solve on two threads agree with one thread (the same sums in
+/// another order) and solve the system; returns whether the tree split at all.
+fn two_threads_agree<T: Scalar<Real = f64>>(a: &SparseMatrix<T>, b: &[T]) -> bool {
+    let mut one = SparseCholesky::factorize(a).unwrap();
+    one.set_solve_threads(SolveThreads::One);
+    let mut two = one.clone();
+    two.set_solve_threads(SolveThreads::Two);
+    for half in [
+        SparseCholesky::<T>::solve_lower_in_place,
+        SparseCholesky::<T>::solve_upper_in_place,
+        SparseCholesky::<T>::solve_in_place,
+    ] {
+        let (mut x_one, mut x_two) = (b.to_vec(), b.to_vec());
+        half(&one, &mut x_one).unwrap();
+        half(&two, &mut x_two).unwrap();
+        let distance = crate::common::relative_distance(&x_two, &x_one);
+        assert!(distance < 1e-13, "two threads differ by {distance:e}");
+    }
+    let x = two.solve(b).unwrap();
+    let residual = relative_residual(a, &x, b);
+    assert!(residual < RESIDUAL, "residual {residual:e}");
+    two.stats().split_columns.is_some()
+}
+
+/// The 30 × 30 grid splits into two subtrees below a small top, and the two-thread solves
+/// agree with the one-thread ones.
+fn grid_two_threads<T: Scalar<Real = f64>>() {
+    let a = grid_connection_laplacian::<T>(30);
+    let n = a.nrows();
+    let b: Vec<T> = Lcg(5).vector(n);
+    assert!(two_threads_agree(&a, &b), "the grid's tree should split");
+    let [first, second, top] = SparseCholesky::factorize(&a)
+        .unwrap()
+        .stats()
+        .split_columns
+        .expect("split");
+    assert_eq!(first + second + top, n);
+    assert!(
+        top < n / 5 && first.min(second) > n / 5,
+        "{first} {second} {top}"
+    );
+}
+
 macro_rules! instantiate {
     ($($module:ident: $t:ty),*) => {$(
         mod $module {
@@ -210,6 +256,12 @@ macro_rules! instantiate {
                 #[test]
                 fn solves_sparse(input in system::<$t>(1..40, 0.15, 3)) {
                     solves_one_and_many(input)?;
+                }
+
+                /// Random patterns: about nine in ten split (forests and bushy trees).
+                #[test]
+                fn two_threads(input in system::<$t>(1..60, 0.1, 1)) {
+                    two_threads_agree(&input.0, &input.1);
                 }
 
                 #[test]
@@ -262,6 +314,11 @@ macro_rules! instantiate {
                 fn solves_dense_ish(input in system::<$t>(40..90, 0.5, 2)) {
                     solves_one_and_many(input)?;
                 }
+            }
+
+            #[test]
+            fn grid_on_two_threads() {
+                grid_two_threads::<$t>();
             }
 
             #[test]
