@@ -80,7 +80,9 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
     /// fixed order (first half, then second), so that both threads use the same coefficient
     /// and the result does not depend on timing.
     fn pass(&self, basis: &Basis<V>, m: usize, w: &mut [V], coef: &mut [V]) {
-        pass(basis, m, w, coef, w.len() * V::REAL_DIM >= PARALLEL_REALS);
+        let two_threads =
+            w.len() * V::REAL_DIM >= PARALLEL_REALS && qsparse::threads::second_thread_allowed();
+        pass(basis, m, w, coef, two_threads);
     }
 
     /// Orthogonalises `w` against columns `0..m` of `basis`, with a second pass when the first

@@ -32,7 +32,13 @@
 //! **Non-convergence** returns [`EigError::NotConverged`] with the pairs that did converge and
 //! the [`Statistics`].
 //!
-//! Parallelism: every faer call runs with `Par::Seq`.
+//! **Parallelism.** Two threads where the work is long enough and a second core is free
+//! ([`qsparse::threads::second_thread_allowed`]: not from a rayon worker, so a parallel batch
+//! of problems does not oversubscribe): the native backend's triangular solves
+//! ([`qsparse::SolveThreads`]) and the Gram–Schmidt passes over long vectors (rows split,
+//! partial coefficients exchanged per column and added in a fixed order). The Ritz vectors of
+//! a restart use faer's `Par::rayon`; every other faer call runs with `Par::Seq`. Results do not
+//! depend on timing.
 
 mod backend;
 mod basis;

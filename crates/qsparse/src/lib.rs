@@ -18,6 +18,7 @@ mod ops;
 mod product;
 #[cfg(feature = "proptest-support")]
 pub mod strategies;
+pub mod threads;
 mod triplet;
 pub mod vector;
 

@@ -574,13 +574,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             SolveThreads::One => false,
             SolveThreads::Two => true,
             SolveThreads::Automatic => {
-                static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-                let cores = *CORES.get_or_init(|| {
-                    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-                });
                 self.values.len() * T::REAL_DIM >= PARALLEL_SOLVE_REALS
-                    && cores >= 2
-                    && rayon::current_thread_index().is_none()
+                    && crate::threads::second_thread_allowed()
             }
         };
         self.symbolic.split.filter(|_| use_two)
