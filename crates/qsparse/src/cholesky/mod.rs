@@ -236,6 +236,20 @@ impl SymbolicCholesky {
         *self.value_ptr.last().unwrap_or(&0)
     }
 
+    /// Where the groups of `split` end, `(first_end, second_end, c1, c2)`: supernodes
+    /// `..first_end` and columns `..c1` are the first thread's, supernodes
+    /// `first_end..second_end` and columns `c1..c2` the second's, the rest the top (all of it
+    /// without a split).
+    fn bounds(&self, split: Option<TwoWaySplit>) -> (usize, usize, usize, usize) {
+        let (first_end, second_end) = split.map_or((0, 0), |p| (p.first_end, p.second_end));
+        (
+            first_end,
+            second_end,
+            self.supernode_begin[first_end],
+            self.supernode_begin[second_end],
+        )
+    }
+
     fn supernode(&self, s: usize) -> (usize, usize, &[usize]) {
         let begin = self.supernode_begin[s];
         let w = self.supernode_begin[s + 1] - begin;
@@ -504,8 +518,7 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             factor_entries: self.values.len(),
             factor_bytes: self.values.len() * core::mem::size_of::<T>(),
             split_columns: sym.split.map(|split| {
-                let c1 = sym.supernode_begin[split.first_end];
-                let c2 = sym.supernode_begin[split.second_end];
+                let (_, _, c1, c2) = sym.bounds(Some(split));
                 [c1, c2 - c1, sym.n - c2]
             }),
         }
@@ -588,12 +601,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
     fn forward(&self, x: &mut [T], work: &mut Vec<T>, split: Option<TwoWaySplit>) {
         let sym = &*self.symbolic;
         let n = sym.n;
+        let (first_end, second_end, c1, c2) = sym.bounds(split);
         let all = sym.supernodes();
-        let (first_end, second_end) = split.map_or((0, 0), |p| (p.first_end, p.second_end));
-        let (c1, c2) = (
-            sym.supernode_begin[first_end],
-            sym.supernode_begin[second_end],
-        );
         // work = [P x | first thread's top updates | second thread's top updates]
         work.clear();
         work.extend(sym.perm.iter().map(|&old| x[old]));
@@ -703,12 +712,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
     fn backward(&self, x: &mut [T], work: &mut Vec<T>, split: Option<TwoWaySplit>) {
         let sym = &*self.symbolic;
         let n = sym.n;
+        let (first_end, second_end, c1, c2) = sym.bounds(split);
         let all = sym.supernodes();
-        let (first_end, second_end) = split.map_or((0, 0), |p| (p.first_end, p.second_end));
-        let (c1, c2) = (
-            sym.supernode_begin[first_end],
-            sym.supernode_begin[second_end],
-        );
         work.clear();
         work.extend_from_slice(x);
         let (low, top) = work.split_at_mut(c2);
