@@ -3,8 +3,8 @@
 //! object.
 //!
 //! ```text
-//! compare spmv|cholesky [--level L | --size N] [--repeats R]
-//! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R]
+//! compare spmv|cholesky [--level L | --size N] [--repeats R] [--single-thread]
+//! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R] [--single-thread]
 //!              [--operator laplace-quaternionic|relative-dirac|family] [--tau T]
 //! ```
 //!
@@ -15,6 +15,8 @@
 //! with `--operator relative-dirac|family`, the spectrum of that operator on the icosphere or
 //! `--mesh FILE` with every backend (`dirac_bench::spectra`).
 //! Defaults: `cholesky --level 4 --repeats 5` (2,562 unknowns, a few seconds), `-k 60`.
+//! faer always runs on one thread; our solver uses a second core where it pays
+//! (`qsparse::threads`) unless `--single-thread` is given, which makes every path sequential.
 
 use std::process::ExitCode;
 
@@ -27,7 +29,8 @@ use dirac_bench::spectra::compare_spectrum;
 use dirac_bench::{connection_laplacian, icosphere_level_for};
 
 const USAGE: &str = "usage: compare [spmv|cholesky|eigs] [--level L | --size N | --mesh FILE] \
-                     [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family] [--tau T]";
+                     [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family] [--tau T] \
+                     [--single-thread]";
 
 struct Options {
     case: String,
@@ -37,6 +40,7 @@ struct Options {
     mesh: Option<String>,
     operator: String,
     tau: f64,
+    single_thread: bool,
 }
 
 fn parse(args: &[String]) -> Result<Options, String> {
@@ -48,6 +52,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         mesh: None,
         operator: "laplace-quaternionic".into(),
         tau: 0.5,
+        single_thread: false,
     };
     let mut i = 0;
     while i < args.len() {
@@ -82,6 +87,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
                 options.repeats = value(i)?.parse().map_err(|e| format!("--repeats: {e}"))?;
                 i += 1;
             }
+            "--single-thread" => options.single_thread = true,
             "-h" | "--help" => return Err(USAGE.into()),
             case if !case.starts_with('-') => options.case = case.into(),
             other => return Err(format!("unknown option {other}\n{USAGE}")),
@@ -130,6 +136,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    qsparse::threads::set_second_thread_allowed(!options.single_thread);
     let report = match options.case.as_str() {
         "spmv" => compare_spmv(&connection_laplacian(options.level), options.repeats),
         "cholesky" => compare_cholesky(&connection_laplacian(options.level), options.repeats),

@@ -95,6 +95,11 @@ pub struct SolveArgs {
     #[arg(long, default_value_t = 1000, value_name = "N")]
     pub max_restarts: usize,
 
+    /// Keep the eigensolver on one thread. By default the triangular solves and Gram–Schmidt
+    /// passes of large problems use a second core (not inside `batch`, whose jobs already do).
+    #[arg(long)]
+    pub single_thread: bool,
+
     /// Potential well (paper §5.1): radius β in geodesic distance; enables the well.
     #[arg(long, value_name = "BETA", value_parser = nonnegative_real, help_heading = "Potential well")]
     pub well_radius: Option<f64>,
@@ -171,8 +176,12 @@ pub fn value_name(value: &impl ValueEnum) -> String {
 impl SolveArgs {
     /// Checks what clap cannot express (`--tau` only with the family) and builds the options;
     /// `subcommand` names the command in the error message. Errors are clap usage errors
-    /// (exit code 2).
+    /// (exit code 2). Also applies `--single-thread`, a process-wide setting
+    /// ([`qeig::threads::set_second_thread_allowed`]).
     pub fn options(&self, subcommand: &str) -> Result<SpectrumOptions, clap::Error> {
+        if self.single_thread {
+            qeig::threads::set_second_thread_allowed(false);
+        }
         let operator = match (self.operator, self.tau) {
             (OperatorArg::Family, Some(tau)) => Operator::Family { tau },
             (OperatorArg::FamilyLiteral, Some(tau)) => Operator::FamilyLiteral { tau },

@@ -206,7 +206,24 @@ fn default_mesh_runs() {
     let report = json(&dirac(&["spectrum", "-k", "6", "--json"]));
     assert_eq!(report["mesh"], "spot (built-in)");
     assert_eq!(report["vertices"], 2930);
-    assert_eq!(numbers(&report["eigenvalues"]).len(), 6);
+    let eigenvalues = numbers(&report["eigenvalues"]);
+    assert_eq!(eigenvalues.len(), 6);
+    // `--single-thread` gives the same spectrum (by default large factors are solved on two).
+    let single = numbers(
+        &json(&dirac(&[
+            "spectrum",
+            "-k",
+            "6",
+            "--json",
+            "--single-thread",
+        ]))["eigenvalues"],
+    );
+    for (a, b) in eigenvalues.iter().zip(&single) {
+        assert!(
+            (a - b).abs() <= 1e-9 * a.abs(),
+            "{eigenvalues:?} vs {single:?}"
+        );
+    }
 }
 
 #[test]

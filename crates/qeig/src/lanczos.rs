@@ -404,7 +404,9 @@ where
                     selection.len(),
                 );
                 // The one compute-bound step: on all cores once it is large (a few per run).
-                let par = if V::REAL_DIM * n * size * selection.len() >= PARALLEL_RITZ_FLOPS {
+                let par = if V::REAL_DIM * n * size * selection.len() >= PARALLEL_RITZ_FLOPS
+                    && qsparse::threads::second_thread_allowed()
+                {
                     Par::rayon(0)
                 } else {
                     Par::Seq

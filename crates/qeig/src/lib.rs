@@ -38,7 +38,8 @@
 //! ([`qsparse::SolveThreads`]) and the Gram–Schmidt passes over long vectors (rows split,
 //! partial coefficients exchanged per column and added in a fixed order). The Ritz vectors of
 //! a restart use faer's `Par::rayon`; every other faer call runs with `Par::Seq`. Results do not
-//! depend on timing.
+//! depend on timing. [`threads::set_second_thread_allowed`]`(false)` keeps everything on the
+//! calling thread.
 
 mod backend;
 mod basis;
@@ -55,4 +56,6 @@ pub use backend::{
 pub use error::EigError;
 pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
 pub use pencil::Pencil;
+/// When the eigensolver may use a second thread (re-exported from `qsparse`).
+pub use qsparse::threads;
 pub use result::{Eigen, Progress, Statistics};
