@@ -603,12 +603,14 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         let n = sym.n;
         let (first_end, second_end, c1, c2) = sym.bounds(split);
         let all = sym.supernodes();
-        // work = [P x | first thread's top updates | second thread's top updates]
+        // work = [P x | first thread's top updates | second thread's top updates]; one
+        // thread needs no buffers (without a split everything is the top, c2 = 0).
+        let buffer_len = if split.is_some() { n - c2 } else { 0 };
         work.clear();
         work.extend(sym.perm.iter().map(|&old| x[old]));
-        work.resize(n + 2 * (n - c2), T::zero());
+        work.resize(n + 2 * buffer_len, T::zero());
         let (y, buffers) = work.split_at_mut(n);
-        let (first_top, second_top) = buffers.split_at_mut(n - c2);
+        let (first_top, second_top) = buffers.split_at_mut(buffer_len);
         let (low, top) = y.split_at_mut(c2);
         if split.is_some() {
             let (first, second) = low.split_at_mut(c1);
