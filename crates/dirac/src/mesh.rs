@@ -8,7 +8,7 @@ use qscalar::Quat;
 use thiserror::Error;
 
 use crate::disjoint_sets::DisjointSets;
-use crate::geometry::{cross, norm, scale, sub};
+use crate::geometry::{corner_cotangent, cross, norm, scale, sub};
 
 /// Why a mesh was rejected. Each variant names the offending element; vertex and face indices
 /// refer to the arrays given to the constructor.
@@ -53,11 +53,21 @@ pub enum MeshError {
         /// The vertex.
         vertex: usize,
     },
-    /// A face has zero area (or an area that overflows to infinity).
-    #[error("face {face} has zero or non-finite area")]
+    /// A face has zero area, an area too small for its reciprocal to be finite (subnormal),
+    /// or an area that overflows to infinity.
+    #[error("face {face} has zero, subnormal or non-finite area")]
     ZeroAreaFace {
         /// The face.
         face: usize,
+    },
+    /// A face has an angle so close to 0° or 180° that its cotangent (a cotangent-Laplacian
+    /// weight) is not finite in floating point.
+    #[error("face {face} has an angle at vertex {vertex} whose cotangent is not finite")]
+    DegenerateAngle {
+        /// The face.
+        face: usize,
+        /// The vertex at the angle.
+        vertex: usize,
     },
     /// More than two faces share an edge.
     #[error("edge {edge:?} is shared by {} faces {faces:?}", faces.len())]
@@ -209,8 +219,14 @@ fn check_geometry(positions: &[[f64; 3]], faces: &[[usize; 3]]) -> Result<(), Me
     }
     for (face, &[i, j, k]) in faces.iter().enumerate() {
         let area = triangle_area(positions[i], positions[j], positions[k]);
-        if !(area > 0.0 && area.is_finite()) {
+        // Operators divide by the area, so its reciprocal must be finite too.
+        if !(area >= f64::MIN_POSITIVE && area.is_finite()) {
             return Err(MeshError::ZeroAreaFace { face });
+        }
+        for (apex, a, b) in [(i, j, k), (j, k, i), (k, i, j)] {
+            if !corner_cotangent(positions[apex], positions[a], positions[b]).is_finite() {
+                return Err(MeshError::DegenerateAngle { face, vertex: apex });
+            }
         }
     }
     Ok(())
@@ -262,7 +278,8 @@ fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
 impl TriMesh {
     /// Builds and validates a mesh (DESIGN.md §4). Checked in this order, the first failure
     /// is returned: non-empty; every index in range and distinct within its face; every vertex
-    /// used by a face; finite coordinates; every face of positive area; at most two faces per
+    /// used by a face; finite coordinates; every face of positive area with a finite reciprocal
+    /// and finite cotangents at its three corners ([`corner_cotangent`](crate::geometry::corner_cotangent)); at most two faces per
     /// edge; neighbouring faces traversing their shared edge in opposite directions; the faces
     /// around each vertex forming a single fan. Boundaries and several components are allowed.
     pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[usize; 3]>) -> Result<Self, MeshError> {
@@ -367,7 +384,7 @@ impl TriMesh {
     }
 
     /// The same connectivity with every position mapped by `f`. Fails if a coordinate becomes
-    /// non-finite or a face loses its area.
+    /// non-finite or a face loses its area or gets a degenerate angle.
     pub fn map_positions(&self, f: impl FnMut([f64; 3]) -> [f64; 3]) -> Result<Self, MeshError> {
         let positions: Vec<[f64; 3]> = self.positions.iter().copied().map(f).collect();
         check_geometry(&positions, &self.faces)?;

@@ -38,12 +38,12 @@ use qscalar::{Quat, Scalar};
 use qsparse::{CholeskyError, SparseCholesky, SparseMatrix, vector};
 use thiserror::Error;
 
-use crate::TriMesh;
 use crate::curvature::willmore_potential;
 use crate::geometry::{barycentric_masses, cotan_laplacian};
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, normal_dirac, quaternionic};
 use crate::phase::orthonormalize_and_canonicalize;
 use crate::well::{PotentialWell, WellError, dirac_with_well, laplacian_with_well};
+use crate::{MeshError, TriMesh};
 
 /// The operator whose spectrum is computed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,6 +169,15 @@ pub enum SpectrumError {
     /// `τ` outside `[0, 1]` (or not finite).
     #[error("tau = {0} is outside [0, 1]")]
     InvalidTau(f64),
+    /// Scaling the mesh to unit area ([`Normalization::UnitArea`]) leaves floating-point
+    /// range.
+    #[error("normalising to unit area (scale {scale:e}) gives an invalid mesh: {source}")]
+    Normalization {
+        /// The scale factor `1/sqrt(total area)`.
+        scale: f64,
+        /// What the scaled mesh fails.
+        source: MeshError,
+    },
     /// The operator could not be assembled.
     #[error(transparent)]
     Operator(#[from] OperatorError),
@@ -233,7 +242,7 @@ pub fn spectrum_with_progress(
         Normalization::UnitArea => {
             let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
             scale = 1.0 / area.sqrt();
-            scaled = scaled_mesh(mesh, scale);
+            scaled = scaled_mesh(mesh, scale)?;
             &scaled
         }
     };
@@ -389,11 +398,11 @@ fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError
     .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
-/// The mesh with positions multiplied by `s`.
-fn scaled_mesh(mesh: &TriMesh, s: f64) -> TriMesh {
-    let positions = mesh.positions().iter().map(|p| p.map(|c| c * s)).collect();
-    TriMesh::new(positions, mesh.faces().to_vec())
-        .expect("scaling by s > 0 keeps a valid mesh valid")
+/// The mesh with positions multiplied by `s`; fails when that leaves floating-point range
+/// (coordinates overflow, or a face's area or angles degenerate).
+fn scaled_mesh(mesh: &TriMesh, s: f64) -> Result<TriMesh, SpectrumError> {
+    mesh.scaled(s)
+        .map_err(|source| SpectrumError::Normalization { scale: s, source })
 }
 
 /// `ε = 10⁻¹⁰ · max_p S_pp / M_pp` (or `10⁻¹⁰` if the stiffness vanishes). The ratio is about

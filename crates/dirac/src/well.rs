@@ -6,7 +6,9 @@ use qsparse::{CholeskyError, SparseCholesky, SparseError, SparseMatrix};
 use thiserror::Error;
 
 use crate::TriMesh;
-use crate::geometry::{barycentric_masses, cotan_laplacian, cross, dot, norm, scale, sub};
+use crate::geometry::{
+    barycentric_masses, corner_cotangent, cotan_laplacian, cross, dot, norm, scale, sub,
+};
 
 /// Why a distance or potential could not be computed.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -105,12 +107,8 @@ pub fn geodesic_distance(mesh: &TriMesh, sources: &[usize]) -> Result<Vec<f64>, 
             let (a, b, c) = (face[corner], face[(corner + 1) % 3], face[(corner + 2) % 3]);
             let (e1, e2) = (sub(p[b], p[a]), sub(p[c], p[a]));
             // θ₁ (opposite e₁ = ab) sits at c, θ₂ (opposite e₂ = ac) sits at b.
-            let cot_at = |apex: [f64; 3], u1: [f64; 3], u2: [f64; 3]| {
-                let (d1, d2) = (sub(u1, apex), sub(u2, apex));
-                dot(d1, d2) / norm(cross(d1, d2))
-            };
-            let cot1 = cot_at(p[c], p[a], p[b]);
-            let cot2 = cot_at(p[b], p[a], p[c]);
+            let cot1 = corner_cotangent(p[c], p[a], p[b]);
+            let cot2 = corner_cotangent(p[b], p[a], p[c]);
             divergence[a] += 0.5 * (cot1 * dot(e1, x) + cot2 * dot(e2, x));
         }
     }

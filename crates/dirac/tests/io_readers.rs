@@ -318,20 +318,48 @@ fn ply_malformed_inputs_are_typed_errors() {
         ply(b"OFF\n3 1 0\n").unwrap_err(),
         ParseError::Ply { .. }
     ));
-    // Truncated binary payload.
+    // Truncated binary payload: 4 vertices of 24 bytes and one face of at least 1 byte need
+    // 97 bytes; the whole payload is 105. Cuts the count check cannot see reach the parser.
     let full = binary_square(true);
-    for cut in [full.len() - 1, full.len() - 9, full.len() - 40] {
-        assert!(matches!(
-            ply(&full[..cut]).unwrap_err(),
-            ParseError::Ply { .. }
-        ));
+    let payload = 4 * 24 + 1 + 4 * 2;
+    assert!(matches!(
+        ply(&full[..full.len() - 1]).unwrap_err(),
+        ParseError::Ply { .. }
+    ));
+    for (cut, element) in [(9, "face"), (40, "vertex")] {
+        match ply(&full[..full.len() - cut]).unwrap_err() {
+            ParseError::PlyCountExceedsData {
+                element: e,
+                needed,
+                available,
+                ..
+            } => {
+                assert_eq!(e, element);
+                assert_eq!(available, payload - cut);
+                assert!(needed > available as u128);
+            }
+            other => panic!("cut {cut}: {other}"),
+        }
     }
-    // A vertex count that lies.
+    // A vertex count that lies: 4·10⁹ ASCII lines cannot fit in a few dozen bytes.
     let lying = PLY_ASCII.replace("element vertex 4", "element vertex 4000000000");
     assert!(matches!(
         ply(lying.as_bytes()).unwrap_err(),
-        ParseError::Ply { .. }
+        ParseError::PlyCountExceedsData { element, count: 4_000_000_000, .. } if element == "vertex"
     ));
+    // An element without properties consumes no bytes per entry, so its count cannot be checked
+    // against the data; a huge one used to exhaust memory (found by the fuzzer).
+    for format in ["ascii", "binary_little_endian"] {
+        let empty = format!(
+            "ply\nformat {format} 1.0\nelement vertex 2222222222222444444\nelement face 1\n\
+             property list uchar int vertex_indices\nend_header\n"
+        );
+        assert!(matches!(
+            ply(empty.as_bytes()).unwrap_err(),
+            ParseError::PlyEmptyElement { element, count: 2_222_222_222_222_444_444 }
+                if element == "vertex"
+        ));
+    }
     let header = |vertex_props: &str, face_prop: &str, body: &str| {
         format!(
             "ply\nformat ascii 1.0\nelement vertex 3\n{vertex_props}element face 1\n\

@@ -115,6 +115,28 @@ fn zero_area_faces_name_the_face() {
     let (mut p, f) = square();
     p[2] = [1e300, 1e300, 0.0];
     assert_eq!(TriMesh::new(p, f), Err(MeshError::ZeroAreaFace { face: 0 }));
+    // A positive but subnormal area, whose reciprocal (in every operator) overflows.
+    let (p, f) = square();
+    let tiny: Vec<[f64; 3]> = p.iter().map(|v| v.map(|c| c * 1e-160)).collect();
+    let area: f64 = 0.5 * 1e-320;
+    assert!(area > 0.0 && (1.0 / area).is_infinite());
+    assert_eq!(
+        TriMesh::new(tiny, f),
+        Err(MeshError::ZeroAreaFace { face: 0 })
+    );
+}
+
+#[test]
+fn angles_with_infinite_cotangent_name_face_and_vertex() {
+    // Area 1/2, but at vertex 0 the edges are 10²⁰⁰ long and 10⁻⁴⁰⁰ radians apart: the dot
+    // product (the cotangent's numerator) overflows. Found by the `spectrum` fuzz target as a
+    // panic in the cotangent Laplacian.
+    let p = vec![[0.0, 0.0, 0.0], [1e200, 0.0, 0.0], [1e200, 1e-200, 0.0]];
+    let f = vec![[0, 1, 2]];
+    assert_eq!(
+        TriMesh::new(p, f),
+        Err(MeshError::DegenerateAngle { face: 0, vertex: 0 })
+    );
 }
 
 #[test]

@@ -135,6 +135,29 @@ pub enum ParseError {
         /// What is missing or wrong.
         problem: String,
     },
+    /// A PLY header announces more entries than the bytes after it can hold.
+    #[error(
+        "PLY element `{element}` announces {count} entries; with the elements before it they \
+         need at least {needed} bytes, but {available} bytes follow the header"
+    )]
+    PlyCountExceedsData {
+        /// The element whose count does not fit.
+        element: String,
+        /// The count its header line announces.
+        count: usize,
+        /// Bytes needed by this element and those before it, at the least.
+        needed: u128,
+        /// Bytes after `end_header`.
+        available: usize,
+    },
+    /// A PLY element announces entries but declares no property to read them from.
+    #[error("PLY element `{element}` announces {count} entries but declares no property")]
+    PlyEmptyElement {
+        /// The element.
+        element: String,
+        /// The count its header line announces.
+        count: usize,
+    },
     /// A PLY element holds a bad value.
     #[error("PLY {element} {index}: {problem}")]
     PlyValue {

@@ -5,10 +5,10 @@
 use std::io::{Read, Write};
 use std::path::Path;
 
-use ply_rs_bw::parser::Parser;
+use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    Addable, DefaultElement, ElementDef, Encoding, Ply, Property, PropertyDef, PropertyType,
-    ScalarType,
+    Addable, DefaultElement, ElementDef, Encoding, Header, Ply, Property, PropertyDef,
+    PropertyType, ScalarType,
 };
 use ply_rs_bw::writer::Writer;
 
@@ -17,20 +17,31 @@ use crate::TriMesh;
 
 /// Parses a PLY file (ASCII, binary little or big endian): positions in file order, polygons
 /// fan-triangulated.
+///
+/// Before the payload is parsed, the element counts the header announces are checked against
+/// the bytes that follow it ([`ParseError::PlyCountExceedsData`], [`ParseError::PlyEmptyElement`]),
+/// so a lying header costs an error, not memory.
 pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
-    let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut reader)
-        .map_err(|e| ParseError::Ply {
-            line: e.line(),
-            message: e.to_string(),
-        })?;
+    let mut bytes = Vec::new();
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|source| ParseError::Io { line: None, source })?;
+    let ply_error = |e: ply_rs_bw::parser::ParseError| ParseError::Ply {
+        line: e.line(),
+        message: e.to_string(),
+    };
+    let parser = Parser::<DefaultElement>::new();
+    let mut reader = Reader::new(&bytes[..]);
+    let header = parser.read_header(&mut reader).map_err(ply_error)?;
+    check_counts_against_data(&header, reader.get_ref().len())?;
+    let payload = parser
+        .read_payload(&mut reader, &header)
+        .map_err(ply_error)?;
     let element = |name: &'static str| {
-        ply.payload
-            .get(name)
-            .ok_or_else(|| ParseError::PlyStructure {
-                element: name,
-                problem: "missing".into(),
-            })
+        payload.get(name).ok_or_else(|| ParseError::PlyStructure {
+            element: name,
+            problem: "missing".into(),
+        })
     };
     let vertices = element("vertex")?;
     let faces = element("face")?;
@@ -87,6 +98,55 @@ pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
         mesh.push_polygon(&polygon);
     }
     Ok(mesh)
+}
+
+/// Checks that the payload can hold what the header announces: every element with entries
+/// has a property, and the entries need no more than the `available` bytes after the header.
+///
+/// The bound is a lower one (binary: the scalar sizes plus the list-length sizes, lists taken
+/// empty; ASCII: one line end per entry), so no valid file is rejected. Without it, an element
+/// without properties and a count of 10¹⁸ makes the parser build empty entries until memory
+/// runs out, because reading them consumes no bytes.
+fn check_counts_against_data(header: &Header, available: usize) -> Result<(), ParseError> {
+    let mut needed: u128 = 0;
+    for element in header.elements.values() {
+        if element.count > 0 && element.properties.is_empty() {
+            return Err(ParseError::PlyEmptyElement {
+                element: element.name.clone(),
+                count: element.count,
+            });
+        }
+        let per_entry = match header.encoding {
+            Encoding::Ascii => 1,
+            Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => element
+                .properties
+                .values()
+                .map(|p| match &p.data_type {
+                    PropertyType::Scalar(t) | PropertyType::List(t, _) => scalar_size(t),
+                })
+                .sum(),
+        };
+        needed += element.count as u128 * per_entry as u128;
+        if needed > available as u128 {
+            return Err(ParseError::PlyCountExceedsData {
+                element: element.name.clone(),
+                count: element.count,
+                needed,
+                available,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Bytes of one binary scalar.
+fn scalar_size(t: &ScalarType) -> usize {
+    match t {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
 }
 
 /// A numeric scalar as `f64`.
