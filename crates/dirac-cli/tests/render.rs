@@ -148,6 +148,61 @@ fn bad_input_is_rejected_with_a_message_naming_it() {
     assert!(error.to_string().contains("no-such-directory"), "{error}");
 }
 
+#[test]
+fn a_non_finite_view_is_rejected_naming_it() {
+    // Seen while writing the `render` fuzz target: NaN or ∞ angles projected every vertex to
+    // NaN, so the picture was written without the mesh.
+    let mesh = icosphere(1);
+    let path = temporary("render_non_finite_view.png");
+    let _ = fs::remove_file(&path);
+    for view in [
+        View::new(f64::NAN, 20.0),
+        View::new(30.0, f64::INFINITY),
+        View::new(f64::NEG_INFINITY, f64::NAN),
+    ] {
+        let options = RenderOptions {
+            view,
+            ..small(100, 100)
+        };
+        let error = render_png(&mesh, &[height_field(&mesh)], &options, &path)
+            .expect_err("no direction to look from");
+        assert!(
+            matches!(error, RenderError::NonFiniteView { .. }),
+            "{error}"
+        );
+        assert!(error.to_string().contains(&view.to_string()), "{error}");
+    }
+    assert!(!path.exists());
+}
+
+#[test]
+fn values_spanning_more_than_the_largest_float_are_shaded_like_moderate_ones() {
+    // Seen while writing the `render` fuzz target: with values near ±f64::MAX the range
+    // overflowed to ∞ and every positive value was drawn as NaN, i.e. at the low end of the
+    // colour map.
+    let mesh = icosphere(2);
+    let moderate = height_field(&mesh);
+    let top = moderate.values.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let extreme = Field {
+        label: moderate.label.clone(),
+        values: moderate.values.iter().map(|v| v / top * f64::MAX).collect(),
+    };
+    let pictures = [(moderate, "moderate"), (extreme, "extreme")].map(|(field, name)| {
+        let path = temporary(&format!("render_range_{name}.png"));
+        render_png(&mesh, &[field], &small(160, 160), &path).expect("renders");
+        Picture::read(&path)
+    });
+    // Same mesh, same colours; only the numbers under the colour bar (the bottom fifth)
+    // differ.
+    let rows = 3 * (pictures[0].width * pictures[0].height * 4 / 5) as usize;
+    let worst = pictures[0].rgb[..rows]
+        .iter()
+        .zip(&pictures[1].rgb[..rows])
+        .map(|(a, b)| a.abs_diff(*b))
+        .max();
+    assert!(worst <= Some(2), "channels differ by {worst:?}");
+}
+
 /// An icosphere of level 2 (162 vertices) as an OBJ file.
 fn sphere_file() -> PathBuf {
     let path = temporary("render_icosphere2.obj");

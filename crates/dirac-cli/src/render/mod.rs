@@ -130,7 +130,7 @@ pub struct RenderOptions {
     pub width: u32,
     /// Height of the whole image in pixels.
     pub height: u32,
-    /// Where the camera looks from.
+    /// Where the camera looks from; both angles must be finite.
     pub view: View,
     /// Panels per row for several fields; `None` chooses the count that makes the panels
     /// closest to square.
@@ -207,6 +207,13 @@ pub enum RenderError {
         width: u32,
         /// Requested height.
         height: u32,
+    },
+    /// An angle of the view is NaN or infinite ([`View::from_str`] never gives one, but the
+    /// fields are public); there is no direction to look from.
+    #[error("the view {view} has a non-finite angle")]
+    NonFiniteView {
+        /// The requested view.
+        view: View,
     },
     /// `columns` is `Some(0)`.
     #[error("the number of columns must be positive")]
@@ -325,12 +332,21 @@ fn render(
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
                 (l.min(v), h.max(v))
             });
-        let span = high - low;
+        // Finite values can span more than f64::MAX (e.g. ±1e308); halving them all keeps
+        // the range finite, so the extremes do not become ∞/∞ = NaN.
+        let scale = if (high - low).is_finite() { 1.0 } else { 0.5 };
+        let span = scale * high - scale * low;
         // A constant field has no range; show it in the middle of the map.
         let coordinate: Vec<f64> = field
             .values
             .iter()
-            .map(|&v| if span > 0.0 { (v - low) / span } else { 0.5 })
+            .map(|&v| {
+                if span > 0.0 {
+                    (scale * v - scale * low) / span
+                } else {
+                    0.5
+                }
+            })
             .collect();
         let image = scene.draw(mesh, &coordinate).shade(BACKGROUND);
         canvas.blit(panel.viewport.x, panel.viewport.y, &image);
@@ -352,6 +368,10 @@ fn validate(mesh: &TriMesh, fields: &[Field], options: &RenderOptions) -> Result
     }
     if options.supersampling == 0 {
         return Err(RenderError::ZeroSupersampling);
+    }
+    let view = options.view;
+    if !(view.azimuth_degrees.is_finite() && view.elevation_degrees.is_finite()) {
+        return Err(RenderError::NonFiniteView { view });
     }
     if fields.is_empty() {
         return Err(RenderError::NoFields);
