@@ -279,9 +279,10 @@ impl TriMesh {
     /// Builds and validates a mesh (DESIGN.md §4). Checked in this order, the first failure
     /// is returned: non-empty; every index in range and distinct within its face; every vertex
     /// used by a face; finite coordinates; every face of positive area with a finite reciprocal
-    /// and finite cotangents at its three corners ([`corner_cotangent`](crate::geometry::corner_cotangent)); at most two faces per
-    /// edge; neighbouring faces traversing their shared edge in opposite directions; the faces
-    /// around each vertex forming a single fan. Boundaries and several components are allowed.
+    /// and finite cotangents at its three corners
+    /// ([`corner_cotangent`](crate::geometry::corner_cotangent)); at most two faces per edge;
+    /// neighbouring faces traversing their shared edge in opposite directions; the faces around
+    /// each vertex forming a single fan. Boundaries and several components are allowed.
     pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[usize; 3]>) -> Result<Self, MeshError> {
         check_indices(positions.len(), &faces)?;
         if let Some(vertex) = referenced(positions.len(), &faces)

@@ -242,7 +242,11 @@ pub fn spectrum_with_progress(
         Normalization::UnitArea => {
             let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
             scale = 1.0 / area.sqrt();
-            scaled = scaled_mesh(mesh, scale)?;
+            // Fails when scaling leaves floating-point range (coordinates overflow, or a
+            // face's area or angles degenerate).
+            scaled = mesh
+                .scaled(scale)
+                .map_err(|source| SpectrumError::Normalization { scale, source })?;
             &scaled
         }
     };
@@ -396,13 +400,6 @@ fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError
         &SparseMatrix::from_diagonal(&weighted),
     )
     .map_err(|e| SpectrumError::Operator(e.into()))
-}
-
-/// The mesh with positions multiplied by `s`; fails when that leaves floating-point range
-/// (coordinates overflow, or a face's area or angles degenerate).
-fn scaled_mesh(mesh: &TriMesh, s: f64) -> Result<TriMesh, SpectrumError> {
-    mesh.scaled(s)
-        .map_err(|source| SpectrumError::Normalization { scale: s, source })
 }
 
 /// `ε = 10⁻¹⁰ · max_p S_pp / M_pp` (or `10⁻¹⁰` if the stiffness vanishes). The ratio is about
