@@ -82,7 +82,8 @@ pub struct SolveArgs {
     #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
     pub normalize: NormalizeArg,
 
-    /// Relative residual tolerance of the eigensolver.
+    /// Tolerance: the eigensolver's relative residual tolerance, and the largest backward error
+    /// ‖Pφ − λQφ‖ / ((‖P‖ + |λ|‖Q‖)‖φ‖) of a pair reported as converged.
     #[arg(long, default_value = "1e-10", value_parser = positive_real)]
     pub tolerance: f64,
 
@@ -94,6 +95,25 @@ pub struct SolveArgs {
     /// pairs that converged (exit code 3).
     #[arg(long, default_value_t = 1000, value_name = "N")]
     pub max_restarts: usize,
+
+    /// List the kernel's eigenvalue 0 (flat vertices and constants, with a mass-orthonormal
+    /// basis) among the k of smallest |λ|. Default: listed for laplace, modified-dirichlet and
+    /// the family with τ < 1 (whose kernel is the constants), not for relative-dirac,
+    /// extrinsic-dirac and squared (whose kernel holds every flat vertex). The kernel's
+    /// dimension is always reported.
+    #[arg(long, conflicts_with = "exclude_kernel")]
+    pub include_kernel: bool,
+
+    /// Never list the kernel's eigenvalue 0 (see --include-kernel).
+    #[arg(long)]
+    pub exclude_kernel: bool,
+
+    /// Faces whose Gauss map is flat within T are treated as exactly flat (D_N vanishes on
+    /// them): along each edge |N_a − N_b| ≤ T |f_a − f_b| / √area. Exactly flat regions of
+    /// real meshes give 1e-13 or less, curved ones 1e-4 or more.
+    #[arg(long, value_name = "T", default_value_t = dirac::spectrum::DEFAULT_FLAT_TOLERANCE,
+          value_parser = nonnegative_real)]
+    pub flat_tolerance: f64,
 
     /// Keep the eigensolver on one thread. By default the triangular solves and Gram–Schmidt
     /// passes of large problems use a second core (not inside `batch`, whose jobs already do).
@@ -230,6 +250,8 @@ impl SolveArgs {
         options.tolerance = self.tolerance;
         options.seed = self.seed;
         options.max_restarts = self.max_restarts;
+        options.flat_tolerance = self.flat_tolerance;
+        options.include_kernel = self.lists_kernel(operator);
         Ok(options)
     }
 
@@ -247,6 +269,12 @@ impl SolveArgs {
             );
         }
         options.operator = Operator::Laplace;
+        options.include_kernel = self.lists_kernel(Operator::Laplace);
+    }
+
+    /// `--include-kernel`, `--exclude-kernel`, or else the operator's default.
+    fn lists_kernel(&self, operator: Operator) -> bool {
+        self.include_kernel || (!self.exclude_kernel && operator.lists_kernel_by_default())
     }
 }
 

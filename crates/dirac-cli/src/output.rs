@@ -31,10 +31,27 @@ pub struct Report {
     pub eigenvalues: Vec<f64>,
     /// Relative residual of each eigenpair.
     pub residuals: Vec<f64>,
+    /// Quaternionic dimension of the operator's exactly known kernel (eigenvalue 0).
+    pub kernel_dimension: usize,
+    /// How the kernel was found.
+    pub kernel: KernelReport,
     /// Eigensolver counts.
     pub statistics: StatisticsReport,
     /// Wall-clock times in seconds.
     pub timings: Timings,
+}
+
+/// The parts of the kernel.
+#[derive(Debug, Default, Serialize)]
+pub struct KernelReport {
+    /// Vertices all of whose faces are flat: one dimension each.
+    pub flat_vertices: usize,
+    /// Connected pieces of the other vertices whose constant function is in the kernel.
+    pub constants: usize,
+    /// Whether the kernel's zeros are among the eigenvalues.
+    pub listed: bool,
+    /// The `--flat-tolerance` in force.
+    pub flat_tolerance: f64,
 }
 
 /// The options of a run, as [`Report`] and the JSON name them.
@@ -129,6 +146,8 @@ impl Report {
             converged: true,
             eigenvalues: Vec::new(),
             residuals: Vec::new(),
+            kernel_dimension: 0,
+            kernel: KernelReport::default(),
             statistics: StatisticsReport::default(),
             timings: Timings {
                 load: load.as_secs_f64(),
@@ -138,10 +157,22 @@ impl Report {
     }
 
     /// Copies the eigenvalues, residuals and statistics of `spectrum` into the report.
-    pub fn set_spectrum(&mut self, spectrum: &Spectrum, assemble_and_solve: Duration) {
+    pub fn set_spectrum(
+        &mut self,
+        spectrum: &Spectrum,
+        options: &SpectrumOptions,
+        assemble_and_solve: Duration,
+    ) {
         let s = &spectrum.statistics;
         self.eigenvalues.clone_from(&spectrum.eigenvalues);
         self.residuals.clone_from(&spectrum.residuals);
+        self.kernel_dimension = spectrum.kernel.dimension;
+        self.kernel = KernelReport {
+            flat_vertices: spectrum.kernel.flat_vertices,
+            constants: spectrum.kernel.constants,
+            listed: options.include_kernel,
+            flat_tolerance: options.flat_tolerance,
+        };
         self.statistics = StatisticsReport {
             iterations: s.iterations,
             restarts: s.restarts,
@@ -202,6 +233,20 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
             w.radius, w.steepness, w.height
         )?;
     }
+    let kernel = &report.kernel;
+    writeln!(
+        out,
+        "kernel      dimension {} ({} flat vertices, {} constants; {}, flat tolerance {:e})",
+        report.kernel_dimension,
+        kernel.flat_vertices,
+        kernel.constants,
+        if kernel.listed {
+            "listed as eigenvalue 0"
+        } else {
+            "not listed, see --include-kernel"
+        },
+        kernel.flat_tolerance
+    )?;
     writeln!(out)?;
     writeln!(
         out,

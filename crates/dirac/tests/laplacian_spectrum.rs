@@ -36,10 +36,10 @@ fn quaternionic_laplacian_eigenvalues<B: qeig::Backend<Quat<f64>>>(
     k: usize,
 ) -> Vec<f64> {
     let (k_mat, s_mat) = pencil::<Quat<f64>>(level);
-    let n = k_mat.nrows();
+    // Mass-orthogonal to the constants: `(M 𝟙)ᴴ x = 0`, with `K = M` diagonal.
     let eig = Pencil::new(&k_mat, &s_mat)
         .unwrap()
-        .with_deflation(vec![vec![Quat::from_real(1.0); n]])
+        .with_constraints(vec![k_mat.values().to_vec()])
         .unwrap()
         .solve(backend, &LanczosOptions::new(k, Which::LargestMagnitude))
         .unwrap();

@@ -55,8 +55,10 @@ fn literal_exact(tau: f64, k: usize) -> Vec<f64> {
 
 /// `n²` with multiplicity `2n`, and 0 once.
 fn squared_exact(k: usize) -> Vec<f64> {
-    std::iter::once(0.0)
-        .chain((1..).flat_map(|n: usize| std::iter::repeat_n((n * n) as f64, 2 * n)))
+    // ν = 0 (the constants) is the kernel, which the squared operator does not list by
+    // default (docs/MATH.md, "The exact kernel").
+    (1..)
+        .flat_map(|n: usize| std::iter::repeat_n((n * n) as f64, 2 * n))
         .take(k)
         .collect()
 }

@@ -63,8 +63,12 @@ pub trait Backend<T: Scalar<Real = f64>> {
 pub trait PencilOperator<V>: HermitianOperator<V> {
     /// `x = C⁻ᴴ y`: the pencil eigenvector of an eigenvector `y` of `A` (`xᴴ S x = yᴴ y`).
     fn eigenvector(&mut self, y: &[V]) -> Vec<V>;
-    /// `Cᴴ x = C⁻¹ S x`: `S`-orthogonality to `x` is orthogonality to this vector.
-    fn adjoint_factor(&mut self, x: &[V]) -> Vec<V>;
+    /// `C⁻¹ c`: the constraint `cᴴ x = 0` on pencil vectors is orthogonality to this vector
+    /// in the iteration space (`cᴴ x = cᴴ C⁻ᴴ y = (C⁻¹ c)ᴴ y`).
+    fn constraint_direction(&mut self, c: &[V]) -> Vec<V>;
+    /// Replaces `K` by `K − Σ w u uᴴ` over the given `(u, w)` (vectors of the iteration
+    /// field, already embedded).
+    fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>);
 }
 
 /// Half-solves with the Cholesky factor `C` of `S = C Cᴴ`.
@@ -86,6 +90,7 @@ pub trait MatVec<V> {
 pub struct FactoredPencil<V, F, M> {
     factor: F,
     k: M,
+    low_rank: Vec<(Vec<V>, f64)>,
     s: M,
     work: Vec<V>,
     solves: usize,
@@ -97,10 +102,19 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> FactoredPencil<V, F, M> 
         Self {
             factor,
             k,
+            low_rank: Vec::new(),
             s,
             work: vec![V::zero(); n],
             solves: 0,
             solve_time: Duration::ZERO,
+        }
+    }
+
+    /// `y = (K − Σ w u uᴴ) x`.
+    fn k_mul(&self, x: &[V], y: &mut [V]) {
+        self.k.mul(x, y);
+        for (u, w) in &self.low_rank {
+            vector::axpy(y, u, vector::inner(u, x) * V::from_real(-w));
         }
     }
 
@@ -127,7 +141,7 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
         let mut t = std::mem::take(&mut self.work);
         t.copy_from_slice(x);
         self.timed(&mut t, false);
-        self.k.mul(&t, y);
+        self.k_mul(&t, y);
         self.timed(y, true);
         self.work = t;
     }
@@ -138,7 +152,7 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
         let x = self.eigenvector(y);
         let n = x.len();
         let (mut kx, mut sx) = (vec![V::zero(); n], vec![V::zero(); n]);
-        self.k.mul(&x, &mut kx);
+        self.k_mul(&x, &mut kx);
         self.s.mul(&x, &mut sx);
         let s_norm = vector::norm(&sx);
         vector::axpy(&mut kx, &sx, V::from_real(-theta));
@@ -159,11 +173,14 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
         x
     }
 
-    fn adjoint_factor(&mut self, x: &[V]) -> Vec<V> {
-        let mut sx = vec![V::zero(); x.len()];
-        self.s.mul(x, &mut sx);
-        self.timed(&mut sx, true);
-        sx
+    fn constraint_direction(&mut self, c: &[V]) -> Vec<V> {
+        let mut y = c.to_vec();
+        self.timed(&mut y, true);
+        y
+    }
+
+    fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>) {
+        self.low_rank = terms;
     }
 }
 

@@ -29,12 +29,12 @@ pub enum EigError<T> {
         /// Which operand.
         context: &'static str,
     },
-    /// The number of wanted eigenpairs is zero or exceeds the dimension left after deflation.
+    /// The number of wanted eigenpairs is zero or exceeds the dimension left by the constraints.
     #[error("cannot compute {k} eigenpairs: between 1 and {available} are available")]
     InvalidCount {
         /// Requested number of pairs.
         k: usize,
-        /// Dimension minus the number of deflation vectors.
+        /// Dimension minus the number of constraint vectors.
         available: usize,
     },
     /// An option is out of range (the message names it).

@@ -18,7 +18,7 @@
 //!
 //! **Multiplicities.** A single Krylov sequence contains one direction per eigenspace. The
 //! iteration runs in *rounds*: each round is a thick-restart Lanczos run from a fresh seeded
-//! random vector, `S`-orthogonal to the deflation space and to every pair locked so far; a
+//! random vector, within the constraints and `S`-orthogonal to every pair locked so far; a
 //! round ends once `k` pairs are locked and the remaining extreme Ritz values are known to lie
 //! outside the window, and the run ends after a round that found nothing better than the
 //! current `k`-th pair. An eigenvalue of multiplicity `m` is thus found `m` times after at

@@ -1,8 +1,9 @@
 //! The Hermitian-definite pencil solver: `K x = μ S x` with `S` Hermitian positive definite.
 //!
 //! With `S = C Cᴴ` from the backend's Cholesky, the Lanczos core runs on
-//! `A = C⁻¹ K C⁻ᴴ` (same eigenvalues `μ`; `x = C⁻ᴴ y`), `S`-orthogonal to the deflation
-//! vectors. The converged pairs are then **folded**: sorted by value, grouped into clusters
+//! `A = C⁻¹ K C⁻ᴴ` (same eigenvalues `μ`; `x = C⁻ᴴ y`), restricted to the subspace of the
+//! linear constraints `cᴴ x = 0` (in the iteration space `(C⁻¹ c)ᴴ y = 0`, one triangular solve
+//! with the factor it already holds per constraint). The converged pairs are then **folded**: sorted by value, grouped into clusters
 //! (consecutive values closer than `max(100 tol, 1e−8)` relative plus the rounding level
 //! `64 eps maxᵢ |μᵢ|` of the operator, which bounds the spread of copies of one eigenvalue
 //! accepted at that level), and in each cluster an
@@ -27,7 +28,7 @@ use crate::{
 };
 
 /// A Hermitian-definite pencil `K x = μ S x` (`K` Hermitian, `S` Hermitian positive definite)
-/// with an optional deflation subspace.
+/// with optional linear constraints `cᴴ x = 0`.
 ///
 /// ```
 /// use qeig::{LanczosOptions, Native, Pencil, Which};
@@ -43,7 +44,8 @@ use crate::{
 pub struct Pencil<'a, T> {
     k: &'a SparseMatrix<T>,
     s: &'a SparseMatrix<T>,
-    deflation: Vec<Vec<T>>,
+    constraints: Vec<Vec<T>>,
+    low_rank: Vec<(Vec<T>, f64)>,
 }
 
 impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
@@ -72,29 +74,76 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         Ok(Self {
             k,
             s,
-            deflation: Vec::new(),
+            constraints: Vec::new(),
+            low_rank: Vec::new(),
         })
     }
 
-    /// Keeps the iteration `S`-orthogonal to the quaternionic span of `vectors`
-    /// (`dᴴ S x = 0`), for example the constants for the Laplacian pencil
-    /// `M x = μ (L + εM) x`. Eigenpairs inside that span are not computed.
-    pub fn with_deflation(mut self, vectors: Vec<Vec<T>>) -> Result<Self, EigError<T>> {
+    /// Restricts the pencil to `{x : cᴴ x = 0 for every c in the quaternionic span of
+    /// constraints}`: the eigenpairs of the pencil compressed to that subspace, with test
+    /// vectors from the same subspace (`K x − μ S x ∈ span(S⁻¹…)` is not required; the
+    /// compression is what [`Pencil::solve`] returns). Two common uses:
+    /// * `c = S d` keeps the iteration `S`-orthogonal to `d` (deflation of a known eigenvector
+    ///   `d`: the remaining pairs are the others);
+    /// * `c = M 𝟙` for the Laplacian pencil `M x = μ (L + εM) x` makes every vector exactly
+    ///   mass-orthogonal to the constants.
+    pub fn with_constraints(mut self, vectors: Vec<Vec<T>>) -> Result<Self, EigError<T>> {
         let n = self.dim();
-        for d in &vectors {
-            if d.len() != n {
+        for c in &vectors {
+            if c.len() != n {
                 return Err(EigError::DimensionMismatch {
                     expected: n,
-                    found: d.len(),
-                    context: "deflation vector",
+                    found: c.len(),
+                    context: "constraint vector",
                 });
             }
-            if d.iter().any(|v| !v.is_finite()) {
-                return Err(EigError::NonFinite("deflation vector"));
+            if c.iter().any(|v| !v.is_finite()) {
+                return Err(EigError::NonFinite("constraint vector"));
             }
         }
-        self.deflation = vectors;
+        self.constraints = vectors;
         Ok(self)
+    }
+
+    /// Replaces `K` by the Hermitian `K − Σ w u uᴴ` over the given `(u, w)` (`u uᴴ` acting on
+    /// the quaternionic span of `u`: `x ↦ u (uᴴ x)`), without forming it: for example the
+    /// compression `PᴴKP` of `K` by an oblique projection `P = I − 𝟙 gᴴ / (gᴴ𝟙)`.
+    pub fn with_low_rank_update(mut self, terms: Vec<(Vec<T>, f64)>) -> Result<Self, EigError<T>> {
+        let n = self.dim();
+        for (u, w) in &terms {
+            if u.len() != n {
+                return Err(EigError::DimensionMismatch {
+                    expected: n,
+                    found: u.len(),
+                    context: "low-rank update vector",
+                });
+            }
+            if u.iter().any(|v| !v.is_finite()) || !w.is_finite() {
+                return Err(EigError::NonFinite("low-rank update"));
+            }
+        }
+        self.low_rank = terms;
+        Ok(self)
+    }
+
+    /// `(K − Σ w u uᴴ) x`.
+    fn k_mul(&self, x: &[T]) -> Vec<T> {
+        let mut y = vec![T::zero(); x.len()];
+        self.k.mul_vec(x, &mut y).expect("length n");
+        for (u, w) in &self.low_rank {
+            vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
+        }
+        y
+    }
+
+    /// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
+    fn relative_residual(&self, mu: f64, x: &[T]) -> f64 {
+        let mut kx = self.k_mul(x);
+        let mut sx = vec![T::zero(); x.len()];
+        self.s.mul_vec(x, &mut sx).expect("length n");
+        let s_norm = vector::norm(&sx);
+        vector::axpy(&mut kx, &sx, T::from_real(-mu));
+        vector::norm(&kx) / (mu.abs() * s_norm)
     }
 
     /// Dimension `n`.
@@ -122,7 +171,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let start = Instant::now();
         validate_options(options)?;
         let n = self.dim();
-        let available = n.saturating_sub(self.deflation.len());
+        let available = n.saturating_sub(self.constraints.len());
         if options.k == 0 || options.k > available {
             return Err(EigError::InvalidCount {
                 k: options.k,
@@ -130,18 +179,37 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             });
         }
         let mut op = backend.prepare(self.k, self.s)?;
+        // A term u uᴴ over T is Σ_e (u e)(u e)ᴴ over the units e in the embedded field, where
+        // the REAL_DIM units give each distinct term REAL_DIM / COPIES times.
+        op.subtract_low_rank(
+            (self.low_rank.iter())
+                .flat_map(|(u, w)| {
+                    (0..T::REAL_DIM).map(move |c| {
+                        let e: T = vector::unit(c);
+                        let ue: Vec<T> = u.iter().map(|&x| x * e).collect();
+                        (ue, *w)
+                    })
+                })
+                .map(|(ue, w)| {
+                    (
+                        backend.embed(&ue),
+                        w * B::COPIES as f64 / T::REAL_DIM as f64,
+                    )
+                })
+                .collect(),
+        );
         let factorization_time = start.elapsed();
 
-        // Deflation in the iteration space: Cᴴ (d e_c) for every unit e_c, orthonormalised.
+        // Constraints in the iteration space: C⁻¹ (c e_u) for every unit e_u, orthonormalised.
         let dim = op.dim();
         let mut basis = Basis::new(dim);
         let mut gs = GramSchmidt::new();
         let mut coef = Vec::new();
-        for d in &self.deflation {
-            for c in 0..T::REAL_DIM {
-                let e: T = vector::unit(c);
-                let dc: Vec<T> = d.iter().map(|&x| x * e).collect();
-                let mut y = op.adjoint_factor(&backend.embed(&dc));
+        for c in &self.constraints {
+            for u in 0..T::REAL_DIM {
+                let e: T = vector::unit(u);
+                let ce: Vec<T> = c.iter().map(|&x| x * e).collect();
+                let mut y = op.constraint_direction(&backend.embed(&ce));
                 append_orthonormal(&mut basis, &mut gs, &mut y, &mut coef);
             }
         }
@@ -157,7 +225,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             }
         }
         let (mut values, mut vectors) = fold(
-            self.k,
+            |x| self.k_mul(x),
             self.s,
             &values,
             vectors,
@@ -169,7 +237,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let residuals = values
             .iter()
             .zip(&vectors)
-            .map(|(&mu, x)| relative_residual(self.k, self.s, mu, x))
+            .map(|(&mu, x)| self.relative_residual(mu, x))
             .collect();
         let mut statistics = outcome.statistics;
         (statistics.solves, statistics.solve_time) = op.solve_statistics();
@@ -192,29 +260,13 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     }
 }
 
-/// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
-fn relative_residual<T: Scalar<Real = f64>>(
-    k: &SparseMatrix<T>,
-    s: &SparseMatrix<T>,
-    mu: f64,
-    x: &[T],
-) -> f64 {
-    let n = x.len();
-    let (mut kx, mut sx) = (vec![T::zero(); n], vec![T::zero(); n]);
-    k.mul_vec(x, &mut kx).expect("length n");
-    s.mul_vec(x, &mut sx).expect("length n");
-    let s_norm = vector::norm(&sx);
-    vector::axpy(&mut kx, &sx, T::from_real(-mu));
-    vector::norm(&kx) / (mu.abs() * s_norm)
-}
-
 /// Eigenvalues and eigenvectors, in matching order.
 type Pairs<T> = (Vec<f64>, Vec<Vec<T>>);
 
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
 /// returns them sorted by wantedness.
 fn fold<T: Scalar<Real = f64>>(
-    k: &SparseMatrix<T>,
+    k: impl Fn(&[T]) -> Vec<T>,
     s: &SparseMatrix<T>,
     values: &[f64],
     vectors: Vec<Vec<T>>,
@@ -273,14 +325,7 @@ fn fold<T: Scalar<Real = f64>>(
             basis.push(q);
         }
         // Rayleigh–Ritz on the cluster: H = Qᴴ K Q.
-        let kq: Vec<Vec<T>> = basis
-            .iter()
-            .map(|q| {
-                let mut y = vec![T::zero(); n];
-                k.mul_vec(q, &mut y).expect("length n");
-                y
-            })
-            .collect();
+        let kq: Vec<Vec<T>> = basis.iter().map(|q| k(q)).collect();
         let m = basis.len();
         let h = DenseMatrix::from_fn(m, m, |a, b| vector::inner(&basis[a], &kq[b]));
         let eig = hermitian_eigen(&h)?;

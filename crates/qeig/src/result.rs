@@ -52,6 +52,22 @@ pub struct Statistics {
     pub total_time: Duration,
 }
 
+impl std::ops::AddAssign<&Statistics> for Statistics {
+    /// Adds the counts and times of another solve (for results assembled from several).
+    fn add_assign(&mut self, run: &Statistics) {
+        self.iterations += run.iterations;
+        self.restarts += run.restarts;
+        self.rounds += run.rounds;
+        self.operator_applications += run.operator_applications;
+        self.solves += run.solves;
+        self.locked += run.locked;
+        self.factorization_time += run.factorization_time;
+        self.solve_time += run.solve_time;
+        self.orthogonalization_time += run.orthogonalization_time;
+        self.total_time += run.total_time;
+    }
+}
+
 /// What a progress callback sees after every restart.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {

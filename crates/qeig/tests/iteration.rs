@@ -36,9 +36,18 @@ fn deflating_eigenvectors_removes_them() {
         .into_iter()
         .map(|v| v.into_iter().map(|x| x * q).collect())
         .collect();
+    // `S`-orthogonality to `d` is the constraint `(S d)ᴴ x = 0`.
+    let constraints = deflation
+        .iter()
+        .map(|d| {
+            let mut sd = vec![Q::default(); d.len()];
+            s_mat.mul_vec(d, &mut sd).unwrap();
+            sd
+        })
+        .collect();
     let eig = Pencil::new(&k_mat, &s_mat)
         .unwrap()
-        .with_deflation(deflation.clone())
+        .with_constraints(constraints)
         .unwrap()
         .solve(&Native, &LanczosOptions::new(4, Which::LargestMagnitude))
         .unwrap();
@@ -209,7 +218,7 @@ fn bad_input_is_a_typed_error() {
         Err(EigError::DimensionMismatch { .. })
     ));
     assert!(matches!(
-        p.clone().with_deflation(vec![vec![Q::from_real(1.0); 3]]),
+        p.clone().with_constraints(vec![vec![Q::from_real(1.0); 3]]),
         Err(EigError::DimensionMismatch { .. })
     ));
     // S indefinite: the factorisation error of each backend.

@@ -26,7 +26,8 @@ fn cycle_pencil<B: Backend<Quat<f64>>>(backend: &B) {
     let k = 9;
     let eig = Pencil::new(&mass, &s)
         .unwrap()
-        .with_deflation(vec![vec![Quat::from_real(1.0); n]])
+        // Mass-orthogonal to the constants: the constraint `(M 𝟙)ᴴ x = 0`.
+        .with_constraints(vec![mass.values().to_vec()])
         .unwrap()
         .solve(backend, &LanczosOptions::new(k, Which::LargestMagnitude))
         .unwrap();

@@ -1,0 +1,274 @@
+//! The exactly known kernel of a pencil `P x = λ Q x` and the reduced space it is solved on
+//! (docs/MATH.md, "The exact kernel").
+//!
+//! * **Flat vertices.** A face is *flat* when the first-order operator's row of it vanishes:
+//!   for `D_N` its corner normals agree within the flat tolerance relative to its edge lengths
+//!   ([`flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex all of whose faces are flat has
+//!   `D δ_p = 0` and `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is in `ker P ∩ ker Q` for every
+//!   quaternion `q`. Every other eigenvector is mass-orthogonal to it, which for the diagonal
+//!   mass means `x_p = 0`: the vertex is removed from the problem.
+//! * **Constants.** The remaining vertices split into pieces connected through faces that are
+//!   not flat. For each piece `S` whose indicator `𝟙_S` the stiffness annihilates
+//!   (`Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ|P_ij|` over the piece's columns), `𝟙_S q` is in the kernel of `P`; its [`Coupling`] says how the
+//!   other eigenvectors relate to it. Unless `Q 𝟙_S = 0`, every eigenvector with `λ ≠ 0`
+//!   satisfies `(Q 𝟙_S)* x = 0`, because `𝟙_S* P x = 0 = λ 𝟙_S* Q x`.
+
+use qscalar::Quat;
+use qsparse::{SparseMatrix, TripletMatrix};
+
+use crate::TriMesh;
+use crate::disjoint_sets::DisjointSets;
+use crate::geometry::{norm, sub};
+
+/// Relative size `Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ_{j∈S} Σ_i |P_ij|` below which a piece's constant is in
+/// the kernel (and likewise for `Q` in [`Coupling`]); rounding leaves `~10⁻¹⁶`.
+const CONSTANT_TOLERANCE: f64 = 1e-10;
+
+/// How the other eigenvectors relate to a constant mode `𝟙_S` of `P`, with `g = Q 𝟙_S`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Coupling {
+    /// `g = 0` (a closed piece of a Dirac pencil): `𝟙_S` is in `ker P ∩ ker Q`, eigenvectors
+    /// are defined up to it and the mass-orthogonal one is returned.
+    Free,
+    /// `g ≠ 0` but `𝟙_S* g = 0` (a Dirac pencil on a piece with boundary): `λ = 0` is a
+    /// defective eigenvalue there, and the others satisfy `g* x = 0`.
+    Orthogonal,
+    /// `𝟙_S* g ≠ 0` (the blended family, the mass of a shifted pencil): `𝟙_S` is an ordinary
+    /// eigenvector with `λ = 0`, and the others satisfy `g* x = 0`.
+    Oblique,
+}
+
+/// The constant function of one connected piece of the non-flat vertices.
+#[derive(Debug, Clone)]
+pub(super) struct ConstantMode {
+    /// The vertices of the piece, ascending.
+    pub vertices: Vec<usize>,
+    /// How the other eigenvectors relate to it.
+    pub coupling: Coupling,
+}
+
+/// The kernel of a pencil that is known exactly: flat vertices and constant modes.
+#[derive(Debug, Clone)]
+pub(super) struct ExactKernel {
+    /// Vertices whose every face is flat (ascending).
+    pub flat_vertices: Vec<usize>,
+    /// The constant modes, one per piece whose constant the stiffness annihilates.
+    pub constants: Vec<ConstantMode>,
+}
+
+/// How the kernel was found, as reported with a [`super::Spectrum`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct KernelSummary {
+    /// Quaternionic dimension of the exactly known kernel: `flat_vertices + constants`.
+    pub dimension: usize,
+    /// Vertices all of whose faces are flat (`D δ_p = 0`): one kernel dimension each.
+    pub flat_vertices: usize,
+    /// Connected pieces of the other vertices whose constant function is in the kernel.
+    pub constants: usize,
+}
+
+impl ExactKernel {
+    /// No known kernel (the literal family, whose pencil is regular).
+    pub fn none() -> Self {
+        Self {
+            flat_vertices: Vec::new(),
+            constants: Vec::new(),
+        }
+    }
+
+    /// The kernel of `P x = λ Q x` on `mesh`, with `flat[t]` telling whether face `t`'s row of
+    /// the first-order operator vanishes (all `false` for operators without one).
+    pub fn find(
+        mesh: &TriMesh,
+        flat: &[bool],
+        stiffness: &SparseMatrix<Quat<f64>>,
+        coupling: &SparseMatrix<Quat<f64>>,
+    ) -> Self {
+        let n = mesh.vertex_count();
+        let mut touches_curved = vec![false; n];
+        let mut pieces = DisjointSets::new(n);
+        for (&[i, j, k], _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
+            (touches_curved[i], touches_curved[j], touches_curved[k]) = (true, true, true);
+            pieces.union(i, j);
+            pieces.union(j, k);
+        }
+        let flat_vertices = (0..n).filter(|&p| !touches_curved[p]).collect();
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for p in (0..n).filter(|&p| touches_curved[p]) {
+            members[pieces.find(p)].push(p);
+        }
+        let constants = members
+            .into_iter()
+            .filter(|piece| !piece.is_empty())
+            .filter(|piece| {
+                let image = image_of_indicator(stiffness, piece);
+                l1(&image) <= CONSTANT_TOLERANCE * column_mass(stiffness, piece)
+            })
+            .map(|vertices| ConstantMode {
+                coupling: classify(coupling, &vertices),
+                vertices,
+            })
+            .collect();
+        Self {
+            flat_vertices,
+            constants,
+        }
+    }
+
+    /// Counts for the report.
+    pub fn summary(&self) -> KernelSummary {
+        KernelSummary {
+            dimension: self.flat_vertices.len() + self.constants.len(),
+            flat_vertices: self.flat_vertices.len(),
+            constants: self.constants.len(),
+        }
+    }
+
+    /// A mass-orthonormal basis of the kernel, in canonical phase (real and positive): the
+    /// constants `𝟙_S / ‖𝟙_S‖_M` first, then `δ_p / √Ā_p` by vertex. At most `count` vectors.
+    pub fn basis(&self, masses: &[f64], count: usize) -> Vec<Vec<Quat<f64>>> {
+        let constants = self.constants.iter().map(|mode| mode.vertices.as_slice());
+        let vertices = self.flat_vertices.iter().map(std::slice::from_ref);
+        constants
+            .chain(vertices)
+            .take(count)
+            .map(|support| {
+                let total: f64 = support.iter().map(|&p| masses[p]).sum();
+                let mut x = vec![Quat::default(); masses.len()];
+                support
+                    .iter()
+                    .for_each(|&p| x[p] = Quat::from_real(1.0 / total.sqrt()));
+                x
+            })
+            .collect()
+    }
+}
+
+/// The [`Coupling`] of `𝟙_S` through `Q`, judged against the size of `Q` on the piece.
+fn classify(q: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Coupling {
+    let g = image_of_indicator(q, support);
+    let reference = CONSTANT_TOLERANCE * column_mass(q, support);
+    let along: Quat<f64> = support.iter().map(|&p| g[p]).sum();
+    if l1(&g) <= reference {
+        Coupling::Free
+    } else if along.norm() <= reference {
+        Coupling::Orthogonal
+    } else {
+        Coupling::Oblique
+    }
+}
+
+/// `Σ_i |x_i|`.
+fn l1(x: &[Quat<f64>]) -> f64 {
+    x.iter().map(|q| q.norm()).sum()
+}
+
+/// `Σ_{j ∈ S} Σ_i |X_ij|`: the scale of `X 𝟙_S` without cancellation.
+fn column_mass(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> f64 {
+    support
+        .iter()
+        .map(|&j| x.col(j).1.iter().map(|q| q.norm()).sum::<f64>())
+        .sum()
+}
+
+/// `X 𝟙_S`.
+pub(super) fn image_of_indicator(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Vec<Quat<f64>> {
+    let mut indicator = vec![Quat::default(); x.ncols()];
+    support
+        .iter()
+        .for_each(|&p| indicator[p] = Quat::from_real(1.0));
+    let mut image = vec![Quat::default(); x.nrows()];
+    x.mul_vec(&indicator, &mut image)
+        .expect("square operator of the vector's size");
+    image
+}
+
+/// The vertices kept in a reduced problem and the map back.
+#[derive(Debug, Clone)]
+pub(super) struct Reduction {
+    /// Reduced index → vertex.
+    pub kept: Vec<usize>,
+    /// Vertex → reduced index.
+    index: Vec<Option<usize>>,
+}
+
+impl Reduction {
+    /// Keeps the vertices `0..n` not in `removed`.
+    pub fn without(n: usize, removed: impl IntoIterator<Item = usize>) -> Self {
+        let mut keep = vec![true; n];
+        removed.into_iter().for_each(|p| keep[p] = false);
+        let kept: Vec<usize> = (0..n).filter(|&p| keep[p]).collect();
+        let mut index = vec![None; n];
+        kept.iter()
+            .enumerate()
+            .for_each(|(r, &p)| index[p] = Some(r));
+        Self { kept, index }
+    }
+
+    /// The principal submatrix on the kept vertices.
+    pub fn matrix(&self, x: &SparseMatrix<Quat<f64>>) -> SparseMatrix<Quat<f64>> {
+        let mut t = TripletMatrix::with_capacity(self.kept.len(), self.kept.len(), x.nnz());
+        for (i, j, v) in x.triplets() {
+            if let (Some(r), Some(c)) = (self.index[i], self.index[j]) {
+                t.push(r, c, v).expect("reduced indices are in range");
+            }
+        }
+        t.to_csc()
+    }
+
+    /// The entries of a full vector at the kept vertices.
+    pub fn vector(&self, x: &[Quat<f64>]) -> Vec<Quat<f64>> {
+        self.kept.iter().map(|&p| x[p]).collect()
+    }
+
+    /// The full vector (zero at removed vertices) of a reduced one.
+    pub fn expand(&self, y: &[Quat<f64>], n: usize) -> Vec<Quat<f64>> {
+        let mut x = vec![Quat::default(); n];
+        self.kept.iter().zip(y).for_each(|(&p, &v)| x[p] = v);
+        x
+    }
+}
+
+/// `max |N_a − N_b|` over the corners of a face: zero exactly when its row of `D_N` vanishes.
+fn normal_spread(normals: &[[f64; 3]], [i, j, k]: [usize; 3]) -> f64 {
+    let distance = |a: usize, b: usize| norm(sub(normals[a], normals[b]));
+    distance(i, j).max(distance(j, k)).max(distance(k, i))
+}
+
+/// Faces whose Gauss map is flat within `tolerance`: along every edge `qr`,
+/// `|N_r − N_q| ≤ tolerance · |f_r − f_q| / L` with `L = √(total area)` (a dimensionless
+/// curvature bound, so a sliver face is flat only if its normals agree to the scale of its
+/// short edge), and, with a potential, whose corners all have `U = 0`. The row of `D_N` of
+/// such a face, `−(N_r − N_q)/(2A_t)`, is negligible against that of `D_f` divided by `L`.
+pub(super) fn flat_faces(
+    mesh: &TriMesh,
+    normals: &[[f64; 3]],
+    potential: Option<&[f64]>,
+    tolerance: f64,
+) -> Vec<bool> {
+    let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
+    let bound = tolerance / area.sqrt();
+    let p = mesh.positions();
+    mesh.faces()
+        .iter()
+        .map(|&face| {
+            let [i, j, k] = face;
+            let flat_edge = |a: usize, b: usize| {
+                norm(sub(normals[a], normals[b])) <= bound * norm(sub(p[a], p[b]))
+            };
+            flat_edge(i, j)
+                && flat_edge(j, k)
+                && flat_edge(k, i)
+                && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
+        })
+        .collect()
+}
+
+/// The largest [`normal_spread`] over the faces around `vertex`.
+pub(super) fn normal_spread_around(mesh: &TriMesh, normals: &[[f64; 3]], vertex: usize) -> f64 {
+    mesh.faces()
+        .iter()
+        .filter(|face| face.contains(&vertex))
+        .map(|&face| normal_spread(normals, face))
+        .fold(0.0, f64::max)
+}

@@ -1,0 +1,575 @@
+//! Spectra of the paper's operators: each operator's eigenproblem `P x = λ Q x` (docs/MATH.md,
+//! "Pencils") solved by `qeig` with any of its backends, on the complement of its exactly known
+//! kernel (docs/MATH.md, "The exact kernel").
+//!
+//! | operator | `P x = λ Q x` | solved as | kernel (`ker P`, exact) | listed by default |
+//! |---|---|---|---|---|
+//! | Laplace | `L x = λ M x` (`L⊗I`) | `M x = μ (L + εM) x`, `λ = 1/μ − ε` | constants of each component | yes |
+//! | modified Dirichlet `Δ + U` | `(L + M diag(U)) x = λ M x` | as Laplace | constants where `U = 0` | yes |
+//! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants | no |
+//! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y`, `λ = y*Ay / y*Gy` | flat vertices, constants | no |
+//! | family `L(τ)`, blended, `0 < τ < 1` | `A_τ x = λ B_τ x` | as Dirac | constants | yes |
+//! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | not analysed | — |
+//!
+//! with `U = κ₁² + κ₂²` the Willmore potential ([`crate::curvature::willmore_potential`]),
+//! `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M` (τ = 0 is
+//! Laplace, τ = 1 relative Dirac), `ε` a shift `10⁻¹⁰` times the largest diagonal ratio of `P`
+//! to `M` (mapped back exactly) and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
+//! definite.
+//!
+//! **The kernel.** A face is flat when its corner normals agree within
+//! [`SpectrumOptions::flat_tolerance`] relative to its edges; its row of `D_N` is then treated
+//! as exactly zero. A
+//! vertex whose faces are all flat spans a kernel dimension (`D_N δ_p = 0`, `G δ_p = 0`), and so
+//! does the constant of every connected piece of the remaining vertices whose constant `P`
+//! annihilates. These are removed before solving, exactly: flat vertices are dropped (every
+//! other eigenvector vanishes there), each constant is pinned at one vertex of its piece
+//! (Rayleigh form; `P` is then positive definite, no regularisation) or constrained away by
+//! `(M 𝟙_S)* x = 0` (shifted form), and where `Q 𝟙_S ≠ 0` (a boundary, or the mass term of the
+//! blend) the eigenvectors satisfy `(Q 𝟙_S)* x = 0`, imposed as a constraint, with the
+//! constant component restored afterwards. [`Spectrum::kernel`] reports what was found;
+//! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
+//! with a mass-orthonormal basis (constants first, then `δ_p / √Ā_p`).
+//!
+//! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|` (then by `λ`),
+//! each as often as its multiplicity; eigenvectors of unit mass norm `Σ_p Ā_p |φ_p|² = 1`,
+//! mass-orthonormal within each eigenspace, in canonical phase ([`crate::phase`]), and
+//! mass-orthogonal to the kernel except on coupled pieces. A pair counts as converged when the
+//! normwise backward error of the operator's own eigenproblem, `‖P x − λ Q x‖ / ((‖P‖ + |λ|
+//! ‖Q‖) ‖x‖_M)` with the matrices as assembled (dual and mass norms), is at most the
+//! tolerance; otherwise [`SpectrumError::NotConverged`] carries the pairs that are.
+
+mod kernel;
+mod pencil;
+mod solve;
+
+use qeig::{Progress, Statistics};
+use qscalar::Quat;
+use qsparse::{CholeskyError, SparseMatrix};
+use thiserror::Error;
+
+pub use kernel::KernelSummary;
+use kernel::{ExactKernel, normal_spread_around};
+use pencil::{Form, Matrices, PencilSpec};
+use solve::{Pairs, SolveError, pencil_residual_vector};
+
+use crate::geometry::barycentric_masses;
+use crate::operators::OperatorError;
+use crate::phase::{mass_norm, orthonormalize_and_canonicalize};
+use crate::well::{PotentialWell, WellError};
+use crate::{MeshError, TriMesh};
+
+/// Default [`SpectrumOptions::flat_tolerance`] `10⁻⁵`: a face is flat when along each edge
+/// `|N_a − N_b| ≤ 10⁻⁵ |f_a − f_b| / L` (`L = √area`: a curvature below `10⁻⁵/L`). Exactly
+/// flat regions of real meshes give `≤ 10⁻¹³` (rounding of the normals), curved regions
+/// `≥ 10⁻⁴`; the 19 Princeton benchmark meshes have no face in between.
+pub const DEFAULT_FLAT_TOLERANCE: f64 = 1e-5;
+
+/// The operator whose spectrum is computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Operator {
+    /// The cotangent Laplacian `Δ` (τ = 0).
+    Laplace,
+    /// The relative Dirac operator `D_N` (τ = 1), area-weighted vertex normals.
+    RelativeDirac,
+    /// The extrinsic Dirac operator `D_f`.
+    ExtrinsicDirac,
+    /// The family `L(τ)` as the blended pencil (default discretisation), `0 ≤ τ ≤ 1`.
+    Family {
+        /// Weight of `D_N` (0: Laplace, 1: relative Dirac).
+        tau: f64,
+    },
+    /// The family `L(τ)` as the literal Galerkin operator `(1−τ)L + τG`, `0 ≤ τ ≤ 1`.
+    FamilyLiteral {
+        /// Weight of `D_N`.
+        tau: f64,
+    },
+    /// The squared relative Dirac operator `D_N* D_N` (pencil `A x = ν M x`).
+    Squared,
+    /// The Hessian `Δ + (κ₁² + κ₂²)` of the modified Dirichlet energy (paper §4.1,
+    /// Hildebrandt et al. 2012): pencil `(L + M diag(U)) x = λ M x` with the Willmore potential
+    /// `U` of [`crate::curvature::willmore_potential`]. Real, so every eigenvalue comes as a
+    /// quaternionic multiple of a real eigenvector; the constants are not in its kernel unless
+    /// `U = 0` (a plane) and are never deflated.
+    ModifiedDirichlet,
+}
+
+impl Operator {
+    /// Whether the kernel's eigenvalue `0` is listed unless asked otherwise: yes for the
+    /// operators whose kernel is at most the constants and whose zero eigenvalue is an
+    /// ordinary one (Laplace, modified Dirichlet, the family for `τ < 1`), no for `D_N`, `D_f`
+    /// and `D_N* D_N`, whose kernel holds every flat vertex (hundreds to thousands on man-made
+    /// shapes) and where the pencil is singular.
+    pub fn lists_kernel_by_default(self) -> bool {
+        match self {
+            Operator::Laplace | Operator::ModifiedDirichlet | Operator::FamilyLiteral { .. } => {
+                true
+            }
+            Operator::Family { tau } => tau < 1.0,
+            Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Squared => false,
+        }
+    }
+}
+
+/// Which representation the eigensolver works in (`qeig` backends).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SolverBackend {
+    /// Quaternion matrices and the native Cholesky.
+    #[default]
+    Native,
+    /// The 4n×4n real-block expansion with faer's Cholesky.
+    RealBlock,
+    /// The 2n×2n complex adjoint with faer's Cholesky.
+    ComplexAdjoint,
+}
+
+/// Scale normalisation applied to the mesh before assembly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Normalization {
+    /// Use the mesh as given.
+    #[default]
+    None,
+    /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Scaling a mesh by `s`
+    /// multiplies the eigenvalues of `D_N`, `Δ`, `Δ + U` and the literal `L(τ)` by `1/s²`, of `D_f` by
+    /// `1/s` and of `D_N* D_N` by `1/s⁴`. The blended `L(τ)` is not homogeneous: its values
+    /// at scale `s` are those at scale 1 for `τ' = τ/(τ + (1−τ)s²)`, divided by `s²`.
+    UnitArea,
+}
+
+/// Options of [`spectrum`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectrumOptions {
+    /// The operator.
+    pub operator: Operator,
+    /// Number of eigenvalues (of smallest `|λ|`).
+    pub k: usize,
+    /// Eigensolver representation.
+    pub backend: SolverBackend,
+    /// Scale normalisation.
+    pub normalization: Normalization,
+    /// Optional infinite potential well (paper §5.1).
+    pub well: Option<PotentialWell>,
+    /// Tolerance: the eigensolver's relative residual tolerance, and the bound on the backward
+    /// error of every pair reported as converged (module documentation).
+    pub tolerance: f64,
+    /// Seed of the eigensolver's start vectors.
+    pub seed: u64,
+    /// Largest number of thick restarts of each eigensolve before it reports non-convergence.
+    pub max_restarts: usize,
+    /// List the kernel's eigenvalue `0` (with a mass-orthonormal kernel basis) among the `k`
+    /// of smallest `|λ|`. Default: [`Operator::lists_kernel_by_default`].
+    pub include_kernel: bool,
+    /// Faces whose Gauss map is flat within this (along each edge `|N_a − N_b| ≤ T |f_a −
+    /// f_b| / √area`) are flat: their row of `D_N` is taken as exactly zero
+    /// ([`DEFAULT_FLAT_TOLERANCE`]; `0` keeps only exactly equal normals).
+    pub flat_tolerance: f64,
+}
+
+impl SpectrumOptions {
+    /// `k` eigenvalues of `operator`, native backend, no normalisation, no well, tolerance
+    /// `1e−10`, at most 1000 restarts, the operator's default kernel listing and flat
+    /// tolerance [`DEFAULT_FLAT_TOLERANCE`].
+    pub fn new(operator: Operator, k: usize) -> Self {
+        Self {
+            include_kernel: operator.lists_kernel_by_default(),
+            flat_tolerance: DEFAULT_FLAT_TOLERANCE,
+            operator,
+            k,
+            backend: SolverBackend::Native,
+            normalization: Normalization::None,
+            well: None,
+            tolerance: 1e-10,
+            seed: 0,
+            max_restarts: 1000,
+        }
+    }
+}
+
+/// A computed spectrum.
+#[derive(Debug, Clone)]
+pub struct Spectrum {
+    /// Eigenvalues `λ`, signed, sorted by `|λ|`.
+    pub eigenvalues: Vec<f64>,
+    /// Eigenvectors `φ` (one quaternion per vertex), unit mass norm, canonical phase.
+    pub eigenvectors: Vec<Vec<Quat<f64>>>,
+    /// Relative residual `‖P φ − λ Q φ‖ / (|λ| ‖Q φ‖)` of each pair in the operator's own
+    /// eigenproblem (`A φ = λ G φ` for Dirac operators, `L φ = λ M φ` for Laplace, …; for
+    /// `λ = 0`, `‖P φ‖ / (max_p (P_pp/Ā_p) ‖φ‖_M)`), in the dual norm `‖r‖² = Σ_p |r_p|²/Ā_p`,
+    /// measured on the returned vectors with the matrices as assembled (flat faces not zeroed).
+    pub residuals: Vec<f64>,
+    /// Eigensolver statistics, summed over all solves.
+    pub statistics: Statistics,
+    /// Factor applied to the positions (1 without normalisation).
+    pub scale: f64,
+    /// The exactly known kernel: its dimension and how it was found.
+    pub kernel: KernelSummary,
+}
+
+/// Why a spectrum could not be computed.
+#[derive(Debug, Clone, Error)]
+#[non_exhaustive]
+pub enum SpectrumError {
+    /// `k` is zero or exceeds what the mesh has.
+    #[error("cannot compute {k} eigenvalues on a mesh with {vertices} vertices")]
+    InvalidCount {
+        /// Requested count.
+        k: usize,
+        /// Vertices.
+        vertices: usize,
+    },
+    /// `τ` outside `[0, 1]` (or not finite).
+    #[error("tau = {0} is outside [0, 1]")]
+    InvalidTau(f64),
+    /// Scaling the mesh to unit area ([`Normalization::UnitArea`]) leaves floating-point
+    /// range.
+    #[error("normalising to unit area (scale {scale:e}) gives an invalid mesh: {source}")]
+    Normalization {
+        /// The scale factor `1/sqrt(total area)`.
+        scale: f64,
+        /// What the scaled mesh fails.
+        source: MeshError,
+    },
+    /// The operator could not be assembled.
+    #[error(transparent)]
+    Operator(#[from] OperatorError),
+    /// The potential well could not be computed.
+    #[error(transparent)]
+    Well(#[from] WellError),
+    /// A factorisation needed to set up the pencil failed.
+    #[error(transparent)]
+    Factorization(#[from] CholeskyError),
+    /// The eigensolver failed.
+    #[error("eigensolver: {0}")]
+    Eigen(String),
+    /// The flat tolerance is negative or not a number.
+    #[error("flat tolerance {0} must be a finite number ≥ 0")]
+    InvalidFlatTolerance(f64),
+    /// The operator vanishes identically on the mesh: its Gauss map is constant (the mesh is
+    /// planar, or every face is flat), so every function is in its kernel.
+    #[error(
+        "the relative Dirac operator vanishes on this mesh: its Gauss map is constant (every \
+         face is flat), so all {vertices} vertices are in its kernel and it has no nonzero \
+         eigenvalue; list the kernel with --include-kernel, or use --operator family --tau T \
+         (0 < T < 1), which sees the flat geometry through the Laplacian"
+    )]
+    VanishingOperator {
+        /// Vertices (all in the kernel).
+        vertices: usize,
+    },
+    /// Fewer nonzero eigenvalues exist than were asked for.
+    #[error(
+        "asked for {wanted} nonzero eigenvalues, but outside its kernel of dimension \
+         {kernel_dimension} the operator has only {available}; ask for fewer, or list the \
+         kernel too (--include-kernel)"
+    )]
+    TooFewNonzero {
+        /// Nonzero eigenvalues wanted.
+        wanted: usize,
+        /// Nonzero eigenvalues the mesh has.
+        available: usize,
+        /// Quaternionic dimension of the kernel.
+        kernel_dimension: usize,
+    },
+    /// The matrix the eigensolver factorises is numerically singular: the operator nearly
+    /// vanishes somewhere without vanishing exactly (almost but not exactly flat faces), so its
+    /// smallest eigenvalues there are below what double precision resolves against the rest
+    /// of the mesh.
+    #[error("{}", nearly_singular_message(*.vertex, *.spread, *.flat_tolerance))]
+    NearlySingular {
+        /// Where the factorisation failed (native backend), original numbering.
+        vertex: Option<usize>,
+        /// The largest difference of corner normals on the faces around it (relative Dirac).
+        spread: Option<f64>,
+        /// The flat tolerance in force.
+        flat_tolerance: f64,
+    },
+    /// The eigensolver stopped early; `partial` holds what converged, post-processed like a
+    /// full result.
+    #[error("the eigensolver converged {} of {wanted} eigenvalues", partial.eigenvalues.len())]
+    NotConverged {
+        /// Eigenvalues asked for.
+        wanted: usize,
+        /// The converged part.
+        partial: Box<Spectrum>,
+    },
+}
+
+/// The message of [`SpectrumError::NearlySingular`].
+fn nearly_singular_message(vertex: Option<usize>, spread: Option<f64>, tolerance: f64) -> String {
+    let place = vertex.map_or(String::new(), |v| format!(" near vertex {v}"));
+    let how = spread.map_or(String::new(), |s| {
+        format!(" (its corner normals differ by at most {s:.1e}, above the flat tolerance {tolerance:.0e})")
+    });
+    let suggestion = spread
+        .filter(|&s| s > tolerance)
+        .map_or(String::from("a larger value"), |s| {
+            format!("{:.0e}", 10f64.powf((10.0 * s).log10().ceil()))
+        });
+    format!(
+        "the operator is numerically singular{place}{how}: it nearly vanishes there without \
+         vanishing exactly, so its smallest eigenvalues are below what double precision \
+         resolves against the rest of the mesh; treat such faces as flat with \
+         --flat-tolerance {suggestion}, or use --operator family --tau T (0 < T < 1)"
+    )
+}
+
+/// The spectrum of `options.operator` on `mesh`; see the module documentation for the pencils.
+pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, SpectrumError> {
+    spectrum_with_progress(mesh, options, None)
+}
+
+/// [`spectrum`] with a callback invoked after every restart of the eigensolver.
+pub fn spectrum_with_progress(
+    mesh: &TriMesh,
+    options: &SpectrumOptions,
+    mut progress: Option<&mut dyn FnMut(&Progress)>,
+) -> Result<Spectrum, SpectrumError> {
+    validate(mesh, options)?;
+    let (scale, scaled) = normalized(mesh, options.normalization)?;
+    let mesh = scaled.as_ref().unwrap_or(mesh);
+    let masses = barycentric_masses(mesh);
+    let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
+    let spec = PencilSpec::for_operator(
+        options.operator,
+        mesh,
+        potential.as_deref(),
+        options.flat_tolerance,
+    )?;
+    let kernel = match spec.form {
+        Form::Literal { .. } => ExactKernel::none(),
+        _ => ExactKernel::find(
+            mesh,
+            &spec.flat,
+            &spec.solved().stiffness,
+            &spec.solved().coupling,
+        ),
+    };
+    let listed = if options.include_kernel {
+        kernel.summary().dimension.min(options.k)
+    } else {
+        0
+    };
+    let wanted = options.k - listed;
+    let mut pairs = Pairs {
+        complete: true,
+        ..Pairs::default()
+    };
+    if wanted > 0 {
+        check_available(&spec, &kernel, wanted, &masses)?;
+        pairs = solve::solve(
+            spec.form,
+            spec.solved(),
+            &kernel,
+            &masses,
+            wanted,
+            options,
+            &mut progress,
+        )
+        .map_err(|e| singular_error(e, &spec, mesh, options.flat_tolerance))?;
+    }
+    pairs.values.splice(0..0, vec![0.0; listed]);
+    pairs.vectors.splice(0..0, kernel.basis(&masses, listed));
+    finish(
+        pairs,
+        &spec.operator,
+        &masses,
+        options,
+        scale,
+        kernel.summary(),
+    )
+}
+
+/// `k` and `τ` in range, flat tolerance valid.
+fn validate(mesh: &TriMesh, options: &SpectrumOptions) -> Result<(), SpectrumError> {
+    let n = mesh.vertex_count();
+    if options.k == 0 || options.k > n {
+        return Err(SpectrumError::InvalidCount {
+            k: options.k,
+            vertices: n,
+        });
+    }
+    if let Operator::Family { tau } | Operator::FamilyLiteral { tau } = options.operator
+        && !(0.0..=1.0).contains(&tau)
+    {
+        return Err(SpectrumError::InvalidTau(tau));
+    }
+    if !(options.flat_tolerance >= 0.0 && options.flat_tolerance.is_finite()) {
+        return Err(SpectrumError::InvalidFlatTolerance(options.flat_tolerance));
+    }
+    Ok(())
+}
+
+/// The scale factor and, unless it is 1, the scaled mesh.
+fn normalized(
+    mesh: &TriMesh,
+    normalization: Normalization,
+) -> Result<(f64, Option<TriMesh>), SpectrumError> {
+    match normalization {
+        Normalization::None => Ok((1.0, None)),
+        Normalization::UnitArea => {
+            let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
+            let scale = 1.0 / area.sqrt();
+            // Fails when scaling leaves floating-point range (coordinates overflow, or a
+            // face's area or angles degenerate).
+            let scaled = mesh
+                .scaled(scale)
+                .map_err(|source| SpectrumError::Normalization { scale, source })?;
+            Ok((scale, Some(scaled)))
+        }
+    }
+}
+
+/// Fails unless `wanted` nonzero pairs exist outside the kernel.
+fn check_available(
+    spec: &PencilSpec,
+    kernel: &ExactKernel,
+    wanted: usize,
+    masses: &[f64],
+) -> Result<(), SpectrumError> {
+    let vertices = masses.len();
+    let available = solve::available(spec.form, spec.solved(), kernel);
+    if wanted <= available {
+        return Ok(());
+    }
+    let summary = kernel.summary();
+    Err(if available == 0 && summary.flat_vertices == vertices {
+        SpectrumError::VanishingOperator { vertices }
+    } else {
+        SpectrumError::TooFewNonzero {
+            wanted,
+            available,
+            kernel_dimension: summary.dimension,
+        }
+    })
+}
+
+/// A solve error in the user's terms.
+fn singular_error(
+    error: SolveError,
+    spec: &PencilSpec,
+    mesh: &TriMesh,
+    flat_tolerance: f64,
+) -> SpectrumError {
+    match error {
+        SolveError::Other(e) => e,
+        SolveError::Singular(singular) => SpectrumError::NearlySingular {
+            vertex: singular.vertex,
+            spread: singular
+                .vertex
+                .zip(spec.normals.as_ref())
+                .map(|(v, normals)| normal_spread_around(mesh, normals, v)),
+            flat_tolerance,
+        },
+    }
+}
+
+/// Sorts by `|λ|`, keeps `k`, mass-orthonormalises within eigenspaces, applies the canonical
+/// phase, measures residuals and splits off the pairs that are not converged.
+fn finish(
+    pairs: Pairs,
+    operator: &Matrices,
+    masses: &[f64],
+    options: &SpectrumOptions,
+    scale: f64,
+    kernel: KernelSummary,
+) -> Result<Spectrum, SpectrumError> {
+    let values = &pairs.values;
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| {
+        (values[a].abs().total_cmp(&values[b].abs())).then(values[a].total_cmp(&values[b]))
+    });
+    order.truncate(options.k);
+    let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
+    let mut eigenvectors: Vec<Vec<Quat<f64>>> =
+        order.iter().map(|&i| pairs.vectors[i].clone()).collect();
+    orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
+    let norms = (
+        scaled_norm(&operator.stiffness, masses),
+        scaled_norm(&operator.coupling, masses),
+    );
+    let measured: Vec<Residual> = (eigenvalues.iter().zip(&eigenvectors))
+        .map(|(&lambda, x)| Residual::of(operator, norms, masses, lambda, x))
+        .collect();
+    let converged: Vec<bool> = measured
+        .iter()
+        .map(|r| r.backward_error <= options.tolerance)
+        .collect();
+    let residuals = measured.iter().map(|r| r.relative).collect();
+    let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
+    let spectrum = Spectrum {
+        eigenvalues: retain(eigenvalues, &converged),
+        eigenvectors: retain(eigenvectors, &converged),
+        residuals: retain(residuals, &converged),
+        statistics: pairs.statistics,
+        scale,
+        kernel,
+    };
+    if all {
+        Ok(spectrum)
+    } else {
+        Err(SpectrumError::NotConverged {
+            wanted: options.k,
+            partial: Box::new(spectrum),
+        })
+    }
+}
+
+/// The items whose flag is set.
+fn retain<T>(items: Vec<T>, flags: &[bool]) -> Vec<T> {
+    items
+        .into_iter()
+        .zip(flags)
+        .filter(|(_, f)| **f)
+        .map(|(x, _)| x)
+        .collect()
+}
+
+/// How well a pair `(λ, x)` satisfies `P x = λ Q x`, in the dual norm `‖r‖² = Σ_p |r_p|²/Ā_p`
+/// of integrated quantities (Euclidean norms would be dominated by sliver triangles, whose rows
+/// of `P` are large and whose masses are tiny) and the mass norm `‖x‖_M` of vectors.
+struct Residual {
+    /// `‖P x − λ Q x‖ / (|λ| ‖Q x‖)`; for `λ = 0`, `‖P x‖ / (‖P‖ ‖x‖_M)`.
+    relative: f64,
+    /// The normwise backward error `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)`: the smallest
+    /// relative change of `P` and `Q` for which the pair is exact.
+    backward_error: f64,
+}
+
+impl Residual {
+    /// The residual of the operator's own eigenproblem (matrices as assembled), with
+    /// `norms = (‖P‖, ‖Q‖)` from [`scaled_norm`].
+    fn of(m: &Matrices, norms: (f64, f64), masses: &[f64], lambda: f64, x: &[Quat<f64>]) -> Self {
+        let dual = |r: &[Quat<f64>]| -> f64 {
+            r.iter()
+                .zip(masses)
+                .map(|(q, a)| q.norm_sqr() / a)
+                .sum::<f64>()
+                .sqrt()
+        };
+        let difference = dual(&pencil_residual_vector(m, lambda, x));
+        let x_norm = mass_norm(masses, x);
+        let relative = if lambda == 0.0 {
+            difference / (norms.0 * x_norm)
+        } else {
+            let mut qx = vec![Quat::default(); x.len()];
+            m.coupling
+                .mul_vec(x, &mut qx)
+                .expect("square operator of the vector's size");
+            difference / (lambda.abs() * dual(&qx))
+        };
+        Self {
+            relative,
+            backward_error: difference / ((norms.0 + lambda.abs() * norms.1) * x_norm),
+        }
+    }
+}
+
+/// `max_p Σ_q |X_pq| / √(Ā_p Ā_q)`: a bound on `‖M^{-1/2} X M^{-1/2}‖₂`, the norm of `X` from
+/// the mass norm to its dual.
+fn scaled_norm(x: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
+    let mut rows = vec![0.0; masses.len()];
+    for (p, q, v) in x.triplets() {
+        rows[p] += v.norm() / (masses[p] * masses[q]).sqrt();
+    }
+    rows.into_iter().fold(0.0, f64::max)
+}

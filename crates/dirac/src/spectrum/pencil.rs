@@ -1,0 +1,312 @@
+//! One value per row of the pencil table (module documentation of [`super`]): the operator's
+//! own eigenproblem `P x = λ Q x`, the matrices that are solved, and how.
+
+use qscalar::{Quat, Scalar};
+use qsparse::SparseMatrix;
+
+use super::kernel::flat_faces;
+use super::{Operator, SpectrumError};
+use crate::TriMesh;
+use crate::curvature::willmore_potential;
+use crate::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
+use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
+use crate::well::{dirac_with_well, laplacian_with_well};
+
+/// How a pencil `P x = λ Q x` is turned into a Hermitian-definite one for `qeig`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Form {
+    /// `Q` positive definite, `P` semidefinite: `Q x = μ (P + εQ) x`, `λ = 1/μ − ε`.
+    Shifted {
+        /// The shift `ε`.
+        epsilon: f64,
+    },
+    /// `P` semidefinite, `Q` indefinite: with the kernel of `P` removed (flat vertices
+    /// dropped, each constant pinned at one vertex of its piece), `Q' y = μ P y` (`P` is then
+    /// positive definite), `λ = y*Py / y*Q'y`, where `Q'` is `Q` compressed to the eigenvectors'
+    /// subspace ([`super::kernel::Coupling`]).
+    Pinned,
+    /// `Q = M`, `P` indefinite: `M x = μ (P + σM) x`, `λ = 1/μ − σ`, collected from the bottom
+    /// of the spectrum until the `k` of smallest `|λ|` are certain.
+    Literal {
+        /// The Gershgorin shift `σ` that makes `P + σM` positive definite.
+        sigma: f64,
+    },
+}
+
+/// The two matrices of a pencil `P x = λ Q x`.
+#[derive(Debug, Clone)]
+pub(super) struct Matrices {
+    /// `P`.
+    pub stiffness: SparseMatrix<Quat<f64>>,
+    /// `Q`.
+    pub coupling: SparseMatrix<Quat<f64>>,
+}
+
+/// Everything that differs between operators.
+#[derive(Debug, Clone)]
+pub(super) struct PencilSpec {
+    /// The operator's own eigenproblem, as assembled: residuals are measured against it.
+    pub operator: Matrices,
+    /// The same with the rows of flat faces of `D` set to zero, when any face is flat: the
+    /// matrices that are solved, whose kernel is then exact.
+    pub exact: Option<Matrices>,
+    /// Per face: its row of the first-order operator vanishes (all `false` without one).
+    pub flat: Vec<bool>,
+    /// The Gauss map `N` that decides flatness (relative Dirac operators).
+    pub normals: Option<Vec<[f64; 3]>>,
+    /// How the pencil is solved.
+    pub form: Form,
+}
+
+impl PencilSpec {
+    /// The pencil of `operator` on `mesh` with an optional well potential; faces whose corner
+    /// normals agree within `flat_tolerance` are flat.
+    pub fn for_operator(
+        operator: Operator,
+        mesh: &TriMesh,
+        potential: Option<&[f64]>,
+        flat_tolerance: f64,
+    ) -> Result<Self, SpectrumError> {
+        let masses = barycentric_masses(mesh);
+        let mass = quaternionic(&SparseMatrix::from_diagonal(&masses));
+        let laplacian = |base: SparseMatrix<f64>| -> Result<_, SpectrumError> {
+            Ok(quaternionic(&match potential {
+                Some(u) => laplacian_with_well(mesh, &base, u)?,
+                None => base,
+            }))
+        };
+        let dirac = |kind: DiracKind| FirstOrder::assemble(mesh, kind, potential, flat_tolerance);
+        let spec = match operator {
+            Operator::Laplace | Operator::Family { tau: 0.0 } => Self::shifted(
+                laplacian(cotan_laplacian(mesh))?,
+                mass,
+                &masses,
+                potential,
+                mesh,
+            ),
+            Operator::ModifiedDirichlet => Self::shifted(
+                laplacian(modified_dirichlet(mesh)?)?,
+                mass,
+                &masses,
+                potential,
+                mesh,
+            ),
+            Operator::Squared => {
+                let first = dirac(DiracKind::Normal)?;
+                let mut spec = Self::shifted(first.stiffness(), mass, &masses, potential, mesh);
+                spec.exact = first.exact.map(|exact| Matrices {
+                    stiffness: exact.stiffness,
+                    coupling: spec.operator.coupling.clone(),
+                });
+                (spec.flat, spec.normals) = (first.flat, first.normals);
+                spec
+            }
+            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
+                dirac(DiracKind::Normal)?.pinned()
+            }
+            Operator::ExtrinsicDirac => dirac(DiracKind::Extrinsic)?.pinned(),
+            Operator::Family { tau } => {
+                // `L` does not vanish on flat faces: no face is flat for the blend.
+                let first = dirac(DiracKind::Normal)?.operator;
+                let l = laplacian(cotan_laplacian(mesh))?;
+                let matrices = Matrices {
+                    stiffness: blend(tau, &first.stiffness, &l)?,
+                    coupling: blend(tau, &first.coupling, &mass)?,
+                };
+                Self::plain(matrices, Form::Pinned, mesh)
+            }
+            Operator::FamilyLiteral { tau } => {
+                let first = dirac(DiracKind::Normal)?.operator;
+                let l = laplacian(cotan_laplacian(mesh))?;
+                let stiffness = blend(tau, &first.coupling, &l)?;
+                let sigma = gershgorin_shift(&stiffness, &masses);
+                let matrices = Matrices {
+                    stiffness,
+                    coupling: mass,
+                };
+                Self::plain(matrices, Form::Literal { sigma }, mesh)
+            }
+        };
+        Ok(spec)
+    }
+
+    /// A pencil with no flat faces.
+    fn plain(operator: Matrices, form: Form, mesh: &TriMesh) -> Self {
+        Self {
+            operator,
+            exact: None,
+            flat: vec![false; mesh.face_count()],
+            normals: None,
+            form,
+        }
+    }
+
+    /// `P x = λ M x` with `P` semidefinite, in shifted form.
+    fn shifted(
+        stiffness: SparseMatrix<Quat<f64>>,
+        mass: SparseMatrix<Quat<f64>>,
+        masses: &[f64],
+        potential: Option<&[f64]>,
+        mesh: &TriMesh,
+    ) -> Self {
+        let epsilon = regularization(&stiffness, masses, potential);
+        let operator = Matrices {
+            stiffness,
+            coupling: mass,
+        };
+        Self::plain(operator, Form::Shifted { epsilon }, mesh)
+    }
+
+    /// The matrices that are solved.
+    pub fn solved(&self) -> &Matrices {
+        self.exact.as_ref().unwrap_or(&self.operator)
+    }
+}
+
+/// Which first-order operator a Dirac pencil is built on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum DiracKind {
+    /// `D_N` (area-weighted vertex normals).
+    Normal,
+    /// `D_f`.
+    Extrinsic,
+}
+
+/// A Dirac pencil `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, as assembled and with the rows of flat
+/// faces of `D` set to zero.
+struct FirstOrder {
+    operator: Matrices,
+    exact: Option<Matrices>,
+    flat: Vec<bool>,
+    normals: Option<Vec<[f64; 3]>>,
+}
+
+impl FirstOrder {
+    fn assemble(
+        mesh: &TriMesh,
+        kind: DiracKind,
+        potential: Option<&[f64]>,
+        flat_tolerance: f64,
+    ) -> Result<Self, SpectrumError> {
+        let (d, normals) = match kind {
+            DiracKind::Normal => {
+                let normals = vertex_normals(mesh)
+                    .map_err(|vertex| OperatorError::DegenerateNormal { vertex })?;
+                (relative_dirac(mesh, &normals)?, Some(normals))
+            }
+            // The rows of `D_f` are edge vectors over twice the area: never zero.
+            DiracKind::Extrinsic => (extrinsic_dirac(mesh)?, None),
+        };
+        let d = match potential {
+            Some(u) => dirac_with_well(mesh, &d, u)?,
+            None => d,
+        };
+        let flat = match &normals {
+            Some(normals) => flat_faces(mesh, normals, potential, flat_tolerance),
+            None => vec![false; mesh.face_count()],
+        };
+        let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices, SpectrumError> {
+            let p = DiracPencil::new(mesh, d)?;
+            Ok(Matrices {
+                stiffness: p.stiffness,
+                coupling: p.coupling,
+            })
+        };
+        let exact = if flat.iter().any(|&f| f) {
+            let keep: Vec<f64> = flat.iter().map(|&f| if f { 0.0 } else { 1.0 }).collect();
+            Some(pencil(&d.scale_rows(&keep).map_err(OperatorError::from)?)?)
+        } else {
+            None
+        };
+        Ok(Self {
+            operator: pencil(&d)?,
+            exact,
+            flat,
+            normals,
+        })
+    }
+
+    /// `A` as assembled.
+    fn stiffness(&self) -> SparseMatrix<Quat<f64>> {
+        self.operator.stiffness.clone()
+    }
+
+    /// `A x = λ G x` in pinned form.
+    fn pinned(self) -> PencilSpec {
+        PencilSpec {
+            operator: self.operator,
+            exact: self.exact,
+            flat: self.flat,
+            normals: self.normals,
+            form: Form::Pinned,
+        }
+    }
+}
+
+/// `τ X + (1 − τ) Y`.
+fn blend(
+    tau: f64,
+    x: &SparseMatrix<Quat<f64>>,
+    y: &SparseMatrix<Quat<f64>>,
+) -> Result<SparseMatrix<Quat<f64>>, SpectrumError> {
+    SparseMatrix::linear_combination(Quat::from_real(tau), x, Quat::from_real(1.0 - tau), y)
+        .map_err(|e| SpectrumError::Operator(e.into()))
+}
+
+/// `L + M diag(U)`: the modified Dirichlet Hessian with the Willmore potential `U`.
+fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError> {
+    let weighted: Vec<f64> = barycentric_masses(mesh)
+        .iter()
+        .zip(willmore_potential(mesh))
+        .map(|(m, u)| m * u)
+        .collect();
+    SparseMatrix::linear_combination(
+        1.0,
+        &cotan_laplacian(mesh),
+        1.0,
+        &SparseMatrix::from_diagonal(&weighted),
+    )
+    .map_err(|e| SpectrumError::Operator(e.into()))
+}
+
+/// `ε = 10⁻¹⁰ · Σ_p P_pp / Σ_p M_pp` over the vertices inside the well (`U_p = 0`; all
+/// vertices without one), or `10⁻¹⁰` if that vanishes: the mass-weighted mean of the diagonal
+/// ratios, a scale of the operator itself (not of the well's wall, up to `c` or `c²`, nor of
+/// the few sliver triangles that set the largest ratio). With the kernel removed exactly, `ε`
+/// only lifts the constant directions, `𝟙* (P + εM) 𝟙 = ε 𝟙* M 𝟙`, a factor `10⁶` above the
+/// rounding `~10⁻¹⁶ Σ|P_ij|` of `𝟙* P 𝟙`, and the map `λ = 1/μ − ε` is exact.
+fn regularization(
+    stiffness: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+    potential: Option<&[f64]>,
+) -> f64 {
+    let inside = (0..masses.len()).filter(|&p| potential.is_none_or(|u| u[p] == 0.0));
+    let (trace, mass) = inside.fold((0.0, 0.0), |(t, m), p| {
+        (t + stiffness.get(p, p).re(), m + masses[p])
+    });
+    let ratio = trace / mass;
+    1e-10
+        * if ratio > 0.0 && ratio.is_finite() {
+            ratio
+        } else {
+            1.0
+        }
+}
+
+/// Gershgorin on `M^{-1/2} K M^{-1/2}`: every `λ ≥ min_p (K_pp/M_pp − Σ_{q≠p} |K_pq|/√(M_pp
+/// M_qq))`; `σ` is 1% above minus that bound plus `10⁻⁸` of the largest weighted entry.
+fn gershgorin_shift(operator: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
+    let mut lower = vec![0.0; masses.len()];
+    let mut scale: f64 = 0.0;
+    for (p, q, v) in operator.triplets() {
+        let weighted = v.abs() / (masses[p] * masses[q]).sqrt();
+        scale = scale.max(weighted);
+        lower[p] += if p == q {
+            v.re() / masses[p]
+        } else {
+            -weighted
+        };
+    }
+    let bound = lower.iter().copied().fold(f64::INFINITY, f64::min);
+    1.01 * (-bound).max(0.0) + 1e-8 * scale.max(f64::MIN_POSITIVE)
+}

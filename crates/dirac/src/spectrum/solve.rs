@@ -1,0 +1,318 @@
+//! One path per [`Form`]: reduce to the complement of the exact kernel, solve with `qeig`, map
+//! the pairs back to the operator's `λ` and to full vectors.
+
+use qeig::{
+    ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, Progress, RealBlock,
+    Statistics, Which,
+};
+use qscalar::{Quat, Scalar};
+use qsparse::{CholeskyError, SparseMatrix, vector};
+
+use super::kernel::{Coupling, ExactKernel, Reduction, image_of_indicator};
+use super::pencil::{Form, Matrices};
+use super::{SolverBackend, SpectrumError, SpectrumOptions};
+
+/// Computed eigenpairs of the operator, not yet sorted or normalised.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Pairs {
+    /// `λ`.
+    pub values: Vec<f64>,
+    /// Full-length eigenvectors.
+    pub vectors: Vec<Vec<Quat<f64>>>,
+    /// Statistics summed over every solve.
+    pub statistics: Statistics,
+    /// Whether the eigensolver converged all wanted pairs.
+    pub complete: bool,
+}
+
+/// The progress callback, reborrowed for each solve.
+pub(super) type ProgressCallback<'a, 'b> = &'a mut Option<&'b mut dyn FnMut(&Progress)>;
+
+/// A factorisation of the reduced `S` failed at this vertex (`None` for the embedded
+/// backends, which do not say where).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Singular {
+    /// The vertex of the failing pivot.
+    pub vertex: Option<usize>,
+    /// Its value.
+    pub pivot: Option<f64>,
+}
+
+/// What can stop a solve.
+pub(super) enum SolveError {
+    /// `S` is not numerically positive definite.
+    Singular(Singular),
+    /// Anything else.
+    Other(SpectrumError),
+}
+
+impl From<SpectrumError> for SolveError {
+    fn from(e: SpectrumError) -> Self {
+        Self::Other(e)
+    }
+}
+
+/// The problem one form hands to `qeig`: `K y = μ S y` on the reduced space with
+/// constraints `cᴴ y = 0`.
+struct Reduced {
+    reduction: Reduction,
+    k: SparseMatrix<Quat<f64>>,
+    s: SparseMatrix<Quat<f64>>,
+    constraints: Vec<Vec<Quat<f64>>>,
+    low_rank: Vec<(Vec<Quat<f64>>, f64)>,
+}
+
+impl Reduced {
+    /// Dimension left for eigenpairs.
+    fn available(&self) -> usize {
+        self.reduction
+            .kept
+            .len()
+            .saturating_sub(self.constraints.len())
+    }
+}
+
+/// How many nonzero pairs the form can deliver on this kernel.
+pub(super) fn available(form: Form, matrices: &Matrices, kernel: &ExactKernel) -> usize {
+    reduce(form, matrices, kernel).map_or(0, |r| r.available())
+}
+
+/// The `count` nonzero eigenpairs of smallest `|λ|`.
+pub(super) fn solve(
+    form: Form,
+    matrices: &Matrices,
+    kernel: &ExactKernel,
+    masses: &[f64],
+    count: usize,
+    options: &SpectrumOptions,
+    progress: ProgressCallback,
+) -> Result<Pairs, SolveError> {
+    let reduced = reduce(form, matrices, kernel)?;
+    let n = masses.len();
+    let mut pairs = match form {
+        Form::Shifted { epsilon } => {
+            let eigen = run(&reduced, count, Which::LargestAlgebraic, options, progress)?;
+            map_pairs(eigen, &reduced, n, |mu| 1.0 / mu - epsilon)
+        }
+        Form::Pinned => {
+            let eigen = run(&reduced, count, Which::LargestMagnitude, options, progress)?;
+            // No shift: `λ = 1/μ` exactly.
+            map_pairs(eigen, &reduced, n, |mu| 1.0 / mu)
+        }
+        Form::Literal { sigma } => literal(&reduced, sigma, count, options, progress)?,
+    };
+    for (x, &lambda) in pairs.vectors.iter_mut().zip(&pairs.values) {
+        for mode in &kernel.constants {
+            match (form, mode.coupling) {
+                (Form::Pinned, Coupling::Orthogonal) => {
+                    restore_constant(matrices, &mode.vertices, lambda, x)
+                }
+                (Form::Pinned, Coupling::Oblique) => project_oblique(matrices, &mode.vertices, x),
+                _ => remove_mass_mean(masses, &mode.vertices, x),
+            }
+        }
+    }
+    Ok(pairs)
+}
+
+/// The reduced problem of each form (docs/MATH.md, "The exact kernel"):
+/// * shifted: `Q y = μ (P + εQ) y` without the flat vertices, `(Q 𝟙_S)* y = 0`;
+/// * pinned: `Q' y = μ P y` without the flat vertices and one vertex of every constant piece
+///   (the constant is then outside the space, so `P` is definite there), with per constant mode
+///   `g = Q 𝟙_S`: nothing if it is free, the constraint `g* y = 0` if it is orthogonal, and if
+///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
+///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
+/// * literal: `M y = μ (P + σM) y` on all vertices.
+fn reduce(form: Form, m: &Matrices, kernel: &ExactKernel) -> Result<Reduced, SpectrumError> {
+    let n = m.stiffness.nrows();
+    let flat = kernel.flat_vertices.iter().copied();
+    let pins = kernel.constants.iter().map(|c| c.vertices[0]);
+    let reduction = match form {
+        Form::Pinned => Reduction::without(n, flat.chain(pins)),
+        Form::Literal { .. } => Reduction::without(n, []),
+        Form::Shifted { .. } => Reduction::without(n, flat),
+    };
+    let mut constraints = Vec::new();
+    let mut low_rank = Vec::new();
+    for mode in &kernel.constants {
+        let g = image_of_indicator(&m.coupling, &mode.vertices);
+        match (form, mode.coupling) {
+            (Form::Literal { .. }, _) | (Form::Pinned, Coupling::Free) => {}
+            (Form::Shifted { .. }, _) | (Form::Pinned, Coupling::Orthogonal) => {
+                constraints.push(reduction.vector(&g))
+            }
+            (Form::Pinned, Coupling::Oblique) => {
+                let along = indicator_inner(&mode.vertices, &g);
+                low_rank.push((reduction.vector(&g), 1.0 / along));
+            }
+        }
+    }
+    let (p, q) = (
+        reduction.matrix(&m.stiffness),
+        reduction.matrix(&m.coupling),
+    );
+    let s = match form {
+        Form::Shifted { epsilon: shift } | Form::Literal { sigma: shift } => {
+            SparseMatrix::linear_combination(Quat::from_real(1.0), &p, Quat::from_real(shift), &q)
+                .map_err(|e| SpectrumError::Operator(e.into()))?
+        }
+        Form::Pinned => p,
+    };
+    Ok(Reduced {
+        reduction,
+        k: q,
+        s,
+        constraints,
+        low_rank,
+    })
+}
+
+/// `Re(𝟙_S* g)`.
+fn indicator_inner(support: &[usize], g: &[Quat<f64>]) -> f64 {
+    support.iter().map(|&p| g[p].re()).sum()
+}
+
+/// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode
+/// from the pinned one.
+fn project_oblique(m: &Matrices, support: &[usize], x: &mut [Quat<f64>]) {
+    let g = image_of_indicator(&m.coupling, support);
+    let c = vector::inner(&g, x) / indicator_inner(support, &g);
+    support.iter().for_each(|&p| x[p] -= c);
+}
+
+/// The eigenvalues `μ` of the reduced pencil mapped to `λ` by `to_lambda(μ, y)`, with full
+/// vectors.
+fn map_pairs(
+    eigen: (Eigen<Quat<f64>>, bool),
+    reduced: &Reduced,
+    n: usize,
+    to_lambda: impl Fn(f64) -> f64,
+) -> Pairs {
+    let (eigen, complete) = eigen;
+    Pairs {
+        values: (eigen.values.iter()).map(|&mu| to_lambda(mu)).collect(),
+        vectors: (eigen.vectors.iter())
+            .map(|y| reduced.reduction.expand(y, n))
+            .collect(),
+        statistics: eigen.statistics,
+        complete,
+    }
+}
+
+/// The literal family: eigenvalues from the bottom until the `count` of smallest `|λ|` are
+/// certain (every `λ` below the highest one computed is known).
+fn literal(
+    reduced: &Reduced,
+    sigma: f64,
+    count: usize,
+    options: &SpectrumOptions,
+    progress: ProgressCallback,
+) -> Result<Pairs, SolveError> {
+    let n = reduced.reduction.kept.len();
+    let mut statistics = Statistics::default();
+    let mut computed = (2 * count).min(n);
+    loop {
+        let eigen = run(
+            reduced,
+            computed,
+            Which::LargestAlgebraic,
+            options,
+            progress,
+        )?;
+        statistics += &eigen.0.statistics;
+        let mut pairs = map_pairs(eigen, reduced, n, |mu| 1.0 / mu - sigma);
+        let highest = pairs
+            .values
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mut magnitudes: Vec<f64> = pairs.values.iter().map(|v| v.abs()).collect();
+        magnitudes.sort_by(f64::total_cmp);
+        let certain = magnitudes.len() >= count && magnitudes[count - 1] <= highest;
+        if certain || computed == n || !pairs.complete {
+            pairs.statistics = statistics;
+            return Ok(pairs);
+        }
+        computed = (2 * computed).min(n);
+    }
+}
+
+/// Solves the reduced pencil for `count` pairs with the chosen backend; the flag says whether
+/// all of them converged.
+fn run(
+    reduced: &Reduced,
+    count: usize,
+    which: Which,
+    options: &SpectrumOptions,
+    progress: ProgressCallback,
+) -> Result<(Eigen<Quat<f64>>, bool), SolveError> {
+    let eigen_error = |e: EigError<Quat<f64>>| SpectrumError::Eigen(e.to_string());
+    let pencil = Pencil::new(&reduced.k, &reduced.s)
+        .and_then(|p| p.with_constraints(reduced.constraints.clone()))
+        .and_then(|p| p.with_low_rank_update(reduced.low_rank.clone()))
+        .map_err(eigen_error)?;
+    let mut lanczos = LanczosOptions::new(count, which);
+    lanczos.tolerance = options.tolerance;
+    lanczos.seed = options.seed;
+    lanczos.max_restarts = options.max_restarts;
+    let progress: Option<&mut dyn FnMut(&Progress)> = match progress {
+        Some(callback) => Some(&mut **callback),
+        None => None,
+    };
+    let result = match options.backend {
+        SolverBackend::Native => pencil.solve_with_progress(&Native, &lanczos, progress),
+        SolverBackend::RealBlock => pencil.solve_with_progress(&RealBlock, &lanczos, progress),
+        SolverBackend::ComplexAdjoint => {
+            pencil.solve_with_progress(&ComplexAdjoint, &lanczos, progress)
+        }
+    };
+    match result {
+        Ok(e) => Ok((e, true)),
+        Err(EigError::NotConverged { partial, .. }) => Ok((*partial, false)),
+        Err(EigError::Factorization(CholeskyError::NotPositiveDefinite { index, pivot })) => {
+            Err(SolveError::Singular(Singular {
+                vertex: Some(reduced.reduction.kept[index]),
+                pivot: Some(pivot),
+            }))
+        }
+        Err(EigError::EmbeddedFactorization(_)) => Err(SolveError::Singular(Singular {
+            vertex: None,
+            pivot: None,
+        })),
+        Err(e) => Err(eigen_error(e).into()),
+    }
+}
+
+/// `x ← x + 𝟙_S c` with `c = ⟨g, P x − λ Q x⟩ / (λ ⟨g, g⟩)`, `g = Q 𝟙_S`: the constant
+/// component on a coupled piece that makes `x` satisfy `P x = λ Q x` when it was solved with
+/// that component pinned to zero (least squares; exact when the rest is exact).
+fn restore_constant(m: &Matrices, support: &[usize], lambda: f64, x: &mut [Quat<f64>]) {
+    let g = image_of_indicator(&m.coupling, support);
+    let residual = pencil_residual_vector(m, lambda, x);
+    let c = vector::inner(&g, &residual) / (lambda * vector::inner(&g, &g).re());
+    support.iter().for_each(|&p| x[p] += c);
+}
+
+/// `P x − λ Q x`.
+pub(super) fn pencil_residual_vector(m: &Matrices, lambda: f64, x: &[Quat<f64>]) -> Vec<Quat<f64>> {
+    let (mut px, mut qx) = (
+        vec![Quat::default(); x.len()],
+        vec![Quat::default(); x.len()],
+    );
+    m.stiffness
+        .mul_vec(x, &mut px)
+        .expect("square operator of the vector's size");
+    m.coupling
+        .mul_vec(x, &mut qx)
+        .expect("square operator of the vector's size");
+    vector::axpy(&mut px, &qx, Quat::from_real(-lambda));
+    px
+}
+
+/// `x ← x − 𝟙_S ⟨𝟙_S, x⟩_M / ⟨𝟙_S, 𝟙_S⟩_M`: the mass-orthogonal representative modulo the
+/// constant of a piece.
+fn remove_mass_mean(masses: &[f64], support: &[usize], x: &mut [Quat<f64>]) {
+    let total: f64 = support.iter().map(|&p| masses[p]).sum();
+    let mean = support.iter().map(|&p| x[p] * masses[p]).sum::<Quat<f64>>() / total;
+    support.iter().for_each(|&p| x[p] -= mean);
+}

@@ -1,0 +1,205 @@
+//! The exact kernel of the Dirac pencils on meshes with flat regions (docs/MATH.md, "The
+//! exact kernel"), against an independent dense reference that knows nothing of flat faces:
+//! all eigenpairs of `A x = ν M x` by a dense solver give `ker A` as the `ν ≤ 10⁻⁹ ν_max`, and
+//! the relative Dirac eigenvalues as `λ = 1/μ` of `G y = μ A y` compressed to the
+//! mass-orthogonal complement of that kernel (on a closed mesh `G ker A = 0`).
+
+use dirac::TriMesh;
+use dirac::generators::{grid, subdivided_cube};
+use dirac::geometry::barycentric_masses;
+use dirac::operators::{DiracPencil, normal_dirac};
+use dirac::phase::mass_inner;
+use dirac::spectrum::{
+    Normalization, Operator, Spectrum, SpectrumError, SpectrumOptions, spectrum,
+};
+use qeig::dense::hermitian_eigen;
+use qscalar::Quat;
+use qscalar::random::SplitMix64;
+use qsparse::{DenseMatrix, SparseMatrix};
+
+/// Dense `M^{-1/2} X M^{-1/2}`.
+fn mass_scaled(x: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> DenseMatrix<Quat<f64>> {
+    let mut dense = DenseMatrix::zeros(masses.len(), masses.len());
+    for (i, j, v) in x.triplets() {
+        dense.col_mut(j)[i] = v * (1.0 / (masses[i] * masses[j]).sqrt());
+    }
+    dense
+}
+
+/// The dense reference: `(dim ker A, nonzero λ of A x = λ G x sorted by |λ|)`.
+fn dense_reference(mesh: &TriMesh) -> (usize, Vec<f64>) {
+    let masses = barycentric_masses(mesh);
+    let pencil = DiracPencil::new(mesh, &normal_dirac(mesh).unwrap()).unwrap();
+    let a = hermitian_eigen(&mass_scaled(&pencil.stiffness, &masses)).unwrap();
+    let largest = a.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let range: Vec<usize> = (0..a.values.len())
+        .filter(|&j| a.values[j] > 1e-9 * largest)
+        .collect();
+    let kernel = a.values.len() - range.len();
+    // Compressed G on the range of A, scaled by ν^{-1/2} on both sides: eigenvalues μ = 1/λ.
+    let g = mass_scaled(&pencil.coupling, &masses);
+    let n = masses.len();
+    let h = DenseMatrix::from_fn(range.len(), range.len(), |r, c| {
+        let (u, v) = (a.vectors.col(range[r]), a.vectors.col(range[c]));
+        let gv: Vec<Quat<f64>> = (0..n)
+            .map(|i| (0..n).map(|j| g.col(j)[i] * v[j]).sum())
+            .collect();
+        let inner: Quat<f64> = u.iter().zip(&gv).map(|(x, y)| x.conj() * *y).sum();
+        inner * (1.0 / (a.values[range[r]] * a.values[range[c]]).sqrt())
+    });
+    let mut lambdas: Vec<f64> = hermitian_eigen(&h)
+        .unwrap()
+        .values
+        .iter()
+        .filter(|mu| mu.abs() > 1e-12)
+        .map(|mu| 1.0 / mu)
+        .collect();
+    lambdas.sort_by(|x, y| x.abs().total_cmp(&y.abs()).then(x.total_cmp(y)));
+    (kernel, lambdas)
+}
+
+fn relative_dirac(mesh: &TriMesh, k: usize) -> Result<Spectrum, SpectrumError> {
+    spectrum(mesh, &SpectrumOptions::new(Operator::RelativeDirac, k))
+}
+
+/// `mesh` under a rotation and a translation (the flat faces' normals then differ by
+/// rounding instead of being exactly equal).
+fn rotated(mesh: &TriMesh) -> TriMesh {
+    mesh.rotated(Quat::new(0.9, 0.3, -0.2, 0.25).normalize())
+        .unwrap()
+        .translated([3.0, -1.0, 2.0])
+        .unwrap()
+}
+
+#[test]
+fn cube_kernel_and_spectrum_match_the_dense_reference() {
+    for n in [4, 5] {
+        let mesh = subdivided_cube(n).unwrap();
+        let (kernel, reference) = dense_reference(&mesh);
+        assert_eq!(kernel, 6 * (n - 3) * (n - 3) + 1, "dense nullity, n = {n}");
+        let k = 12;
+        let result = relative_dirac(&mesh, k).unwrap();
+        assert_eq!(result.kernel.dimension, kernel, "n = {n}");
+        assert_eq!(result.kernel.flat_vertices, kernel - 1);
+        assert_eq!(result.kernel.constants, 1);
+        for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs(),
+                "n = {n}, λ_{i}: {got} against dense {want}"
+            );
+        }
+        assert!(
+            result.residuals.iter().all(|&r| r <= 1e-8),
+            "{:?}",
+            result.residuals
+        );
+        // Eigenvectors vanish on flat vertices and are mass-orthogonal to the constants.
+        let masses = barycentric_masses(&mesh);
+        let ones = vec![Quat::from_real(1.0); masses.len()];
+        for phi in &result.eigenvectors {
+            assert!(mass_inner(&masses, &ones, phi).norm() < 1e-9);
+        }
+    }
+}
+
+#[test]
+fn kernel_and_nonzero_spectrum_are_invariant_under_rigid_motion() {
+    let mesh = subdivided_cube(6).unwrap();
+    let a = relative_dirac(&mesh, 10).unwrap();
+    let b = relative_dirac(&rotated(&mesh), 10).unwrap();
+    assert_eq!(a.kernel, b.kernel);
+    assert_eq!(a.kernel.dimension, 6 * 9 + 1);
+    for (x, y) in a.eigenvalues.iter().zip(&b.eigenvalues) {
+        assert!((x - y).abs() <= 1e-8 * x.abs(), "{x} vs {y}");
+    }
+}
+
+#[test]
+fn the_kernel_is_listed_on_request_with_a_mass_orthonormal_basis() {
+    let mesh = subdivided_cube(5).unwrap();
+    let kernel = 6 * 4 + 1;
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, kernel + 3);
+    options.include_kernel = true;
+    let listed = spectrum(&mesh, &options).unwrap();
+    let plain = relative_dirac(&mesh, 3).unwrap();
+    assert!(listed.eigenvalues[..kernel].iter().all(|&l| l == 0.0));
+    for (x, y) in listed.eigenvalues[kernel..].iter().zip(&plain.eigenvalues) {
+        assert!((x - y).abs() <= 1e-9 * y.abs());
+    }
+    let masses = barycentric_masses(&mesh);
+    for (i, u) in listed.eigenvectors[..kernel].iter().enumerate() {
+        for (j, v) in listed.eigenvectors[..kernel].iter().enumerate() {
+            let expected = if i == j { 1.0 } else { 0.0 };
+            assert!((mass_inner(&masses, u, v) - Quat::from_real(expected)).norm() < 1e-12);
+        }
+    }
+    // The squared operator has the same kernel (`ker A`), omitted by default too.
+    let squared = spectrum(&mesh, &SpectrumOptions::new(Operator::Squared, 4)).unwrap();
+    assert_eq!(squared.kernel.dimension, kernel);
+    assert!(squared.eigenvalues.iter().all(|&nu| nu > 1e-6));
+}
+
+#[test]
+fn a_planar_mesh_is_a_vanishing_operator_not_a_crash() {
+    let plane = grid(8, 6, 2.0, 1.5).unwrap();
+    let n = plane.vertex_count();
+    assert!(matches!(
+        relative_dirac(&plane, 4),
+        Err(SpectrumError::VanishingOperator { vertices }) if vertices == n
+    ));
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, 4);
+    options.include_kernel = true;
+    let kernel = spectrum(&plane, &options).unwrap();
+    assert_eq!(kernel.kernel.dimension, n);
+    assert_eq!(kernel.eigenvalues, vec![0.0; 4]);
+    // The family still sees the geometry through the Laplacian.
+    let family = spectrum(
+        &plane,
+        &SpectrumOptions::new(Operator::Family { tau: 0.5 }, 4),
+    )
+    .unwrap();
+    assert_eq!(family.eigenvalues[0], 0.0);
+    assert!(family.eigenvalues[1] > 0.0);
+}
+
+#[test]
+fn a_noisy_plane_is_flat_by_default_and_an_answer_or_a_typed_error_when_asked_to_see_the_noise() {
+    let mut rng = SplitMix64::new(3);
+    let noisy = grid(10, 10, 1.0, 1.0)
+        .unwrap()
+        .map_positions(|[x, y, z]| [x, y, z + 1e-9 * rng.uniform(-1.0, 1.0)])
+        .unwrap();
+    assert!(matches!(
+        relative_dirac(&noisy, 4),
+        Err(SpectrumError::VanishingOperator { .. })
+    ));
+    // With every face curved by the noise, the spectrum is the noise's: whatever converged is
+    // reported as such, never a panic or a factorisation error.
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, 4);
+    options.flat_tolerance = 0.0;
+    match spectrum(&noisy, &options) {
+        Ok(result) => {
+            assert_eq!(result.kernel.dimension, 1);
+            assert!(result.eigenvalues.iter().all(|l| l.abs() > 0.0));
+        }
+        Err(SpectrumError::NotConverged { partial, .. }) => {
+            assert_eq!(partial.kernel.dimension, 1);
+        }
+        Err(other) => panic!("expected a spectrum or NotConverged, got {other}"),
+    }
+}
+
+#[test]
+fn pairs_at_the_rounding_floor_are_not_reported_as_converged() {
+    // No pair can have a backward error below 10⁻¹⁸ in double precision: the eigensolver
+    // stops at its rounding floor, and the result must say that it did not converge.
+    let mesh = dirac::default_mesh();
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, 6);
+    options.tolerance = 1e-18;
+    options.normalization = Normalization::UnitArea;
+    options.max_restarts = 30;
+    assert!(matches!(
+        spectrum(&mesh, &options),
+        Err(SpectrumError::NotConverged { wanted: 6, .. })
+    ));
+}
