@@ -82,8 +82,9 @@ pub struct SolveArgs {
     #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
     pub normalize: NormalizeArg,
 
-    /// Tolerance: the eigensolver's relative residual tolerance, and the largest backward error
-    /// ‖Pφ − λQφ‖ / ((‖P‖ + |λ|‖Q‖)‖φ‖) of a pair reported as converged.
+    /// Relative residual tolerance of the eigensolver. A pair is reported as converged when its
+    /// residual ‖Pφ − λQφ‖ / (|λ| ‖Qφ‖) is at most 100 times this, or its backward error is at
+    /// the rounding floor (1000 ε).
     #[arg(long, default_value = "1e-10", value_parser = positive_real)]
     pub tolerance: f64,
 

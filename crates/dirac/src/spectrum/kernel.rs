@@ -183,18 +183,25 @@ pub(super) fn image_of_indicator(x: &SparseMatrix<Quat<f64>>, support: &[usize])
     image
 }
 
-/// The vertices kept in a reduced problem and the map back.
+/// The vertices kept in a reduced problem, in mass-scaled coordinates `z = M^{1/2} y`, and the
+/// map back. In these coordinates Euclidean norms are the mass norm of vectors and the dual
+/// norm of integrated quantities, so the eigensolver's residual test is the one the results
+/// are judged by (sliver triangles would otherwise dominate it), and the matrices are
+/// equilibrated.
 #[derive(Debug, Clone)]
 pub(super) struct Reduction {
     /// Reduced index → vertex.
     pub kept: Vec<usize>,
     /// Vertex → reduced index.
     index: Vec<Option<usize>>,
+    /// `1/√Ā_p` per reduced index.
+    weights: Vec<f64>,
 }
 
 impl Reduction {
-    /// Keeps the vertices `0..n` not in `removed`.
-    pub fn without(n: usize, removed: impl IntoIterator<Item = usize>) -> Self {
+    /// Keeps the vertices `0..n` (`n = masses.len()`) not in `removed`.
+    pub fn without(masses: &[f64], removed: impl IntoIterator<Item = usize>) -> Self {
+        let n = masses.len();
         let mut keep = vec![true; n];
         removed.into_iter().for_each(|p| keep[p] = false);
         let kept: Vec<usize> = (0..n).filter(|&p| keep[p]).collect();
@@ -202,73 +209,103 @@ impl Reduction {
         kept.iter()
             .enumerate()
             .for_each(|(r, &p)| index[p] = Some(r));
-        Self { kept, index }
+        let weights = kept.iter().map(|&p| 1.0 / masses[p].sqrt()).collect();
+        Self {
+            kept,
+            index,
+            weights,
+        }
     }
 
-    /// The principal submatrix on the kept vertices.
+    /// `W X W` on the kept vertices, `W = M^{-1/2}`: the matrix in scaled coordinates.
     pub fn matrix(&self, x: &SparseMatrix<Quat<f64>>) -> SparseMatrix<Quat<f64>> {
         let mut t = TripletMatrix::with_capacity(self.kept.len(), self.kept.len(), x.nnz());
         for (i, j, v) in x.triplets() {
             if let (Some(r), Some(c)) = (self.index[i], self.index[j]) {
-                t.push(r, c, v).expect("reduced indices are in range");
+                t.push(r, c, v * (self.weights[r] * self.weights[c]))
+                    .expect("reduced indices are in range");
             }
         }
         t.to_csc()
     }
 
-    /// The entries of a full vector at the kept vertices.
-    pub fn vector(&self, x: &[Quat<f64>]) -> Vec<Quat<f64>> {
-        self.kept.iter().map(|&p| x[p]).collect()
+    /// `W c` on the kept vertices: an integrated quantity (a constraint's functional, a term of
+    /// a low-rank update) in scaled coordinates.
+    pub fn functional(&self, c: &[Quat<f64>]) -> Vec<Quat<f64>> {
+        (self.kept.iter().zip(&self.weights))
+            .map(|(&p, &w)| c[p] * w)
+            .collect()
     }
 
-    /// The full vector (zero at removed vertices) of a reduced one.
-    pub fn expand(&self, y: &[Quat<f64>], n: usize) -> Vec<Quat<f64>> {
+    /// The full vector `x = W z` (zero at removed vertices) of a scaled reduced one.
+    pub fn expand(&self, z: &[Quat<f64>], n: usize) -> Vec<Quat<f64>> {
         let mut x = vec![Quat::default(); n];
-        self.kept.iter().zip(y).for_each(|(&p, &v)| x[p] = v);
+        for ((&p, &w), &v) in self.kept.iter().zip(&self.weights).zip(z) {
+            x[p] = v * w;
+        }
         x
     }
 }
 
-/// `max |N_a − N_b|` over the corners of a face: zero exactly when its row of `D_N` vanishes.
-fn normal_spread(normals: &[[f64; 3]], [i, j, k]: [usize; 3]) -> f64 {
-    let distance = |a: usize, b: usize| norm(sub(normals[a], normals[b]));
-    distance(i, j).max(distance(j, k)).max(distance(k, i))
+/// The flatness `max |N_a − N_b| · L / |f_a − f_b|` over the edges of a face, `L = √area`:
+/// a dimensionless bound on its discrete curvature, which the flat tolerance bounds.
+fn face_flatness(mesh: &TriMesh, normals: &[[f64; 3]], length: f64, [i, j, k]: [usize; 3]) -> f64 {
+    let p = mesh.positions();
+    let edge =
+        |a: usize, b: usize| length * norm(sub(normals[a], normals[b])) / norm(sub(p[a], p[b]));
+    edge(i, j).max(edge(j, k)).max(edge(k, i))
 }
 
-/// Faces whose Gauss map is flat within `tolerance`: along every edge `qr`,
-/// `|N_r − N_q| ≤ tolerance · |f_r − f_q| / L` with `L = √(total area)` (a dimensionless
-/// curvature bound, so a sliver face is flat only if its normals agree to the scale of its
-/// short edge), and, with a potential, whose corners all have `U = 0`. The row of `D_N` of
-/// such a face, `−(N_r − N_q)/(2A_t)`, is negligible against that of `D_f` divided by `L`.
+/// `√(total area)`.
+fn length_scale(mesh: &TriMesh) -> f64 {
+    (0..mesh.face_count())
+        .map(|t| mesh.face_area(t))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Faces whose Gauss map is flat within `tolerance` (their [`face_flatness`] is at most it:
+/// along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L`, so a sliver face is flat only
+/// if its normals agree to the scale of its short edge) and, with a potential, whose corners
+/// all have `U = 0`. The row of `D_N` of such a face, `−(N_r − N_q)/(2A_t)`, is negligible
+/// against that of `D_f` divided by `L`.
 pub(super) fn flat_faces(
     mesh: &TriMesh,
     normals: &[[f64; 3]],
     potential: Option<&[f64]>,
     tolerance: f64,
 ) -> Vec<bool> {
-    let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
-    let bound = tolerance / area.sqrt();
-    let p = mesh.positions();
+    let length = length_scale(mesh);
     mesh.faces()
         .iter()
         .map(|&face| {
-            let [i, j, k] = face;
-            let flat_edge = |a: usize, b: usize| {
-                norm(sub(normals[a], normals[b])) <= bound * norm(sub(p[a], p[b]))
-            };
-            flat_edge(i, j)
-                && flat_edge(j, k)
-                && flat_edge(k, i)
+            face_flatness(mesh, normals, length, face) <= tolerance
                 && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
         })
         .collect()
 }
 
-/// The largest [`normal_spread`] over the faces around `vertex`.
-pub(super) fn normal_spread_around(mesh: &TriMesh, normals: &[[f64; 3]], vertex: usize) -> f64 {
+/// The faces around flat vertices (vertices all of whose faces are `flat`): the rows of `D_N`
+/// that must vanish exactly for `δ_p` and the constants of the remaining pieces to be exact
+/// kernel vectors. Flat faces elsewhere keep their (tiny) rows: zeroing them would perturb the
+/// operator for nothing.
+pub(super) fn vanishing_faces(mesh: &TriMesh, flat: &[bool]) -> Vec<bool> {
+    let mut all_flat = vec![true; mesh.vertex_count()];
+    for (face, _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
+        face.iter().for_each(|&p| all_flat[p] = false);
+    }
+    mesh.faces()
+        .iter()
+        .map(|face| face.iter().any(|&p| all_flat[p]))
+        .collect()
+}
+
+/// The largest [`face_flatness`] over the faces around `vertex`.
+pub(super) fn flatness_around(mesh: &TriMesh, normals: &[[f64; 3]], vertex: usize) -> f64 {
+    let length = length_scale(mesh);
     mesh.faces()
         .iter()
         .filter(|face| face.contains(&vertex))
-        .map(|&face| normal_spread(normals, face))
+        .map(|&face| face_flatness(mesh, normals, length, face))
         .fold(0.0, f64::max)
 }

@@ -4,7 +4,7 @@
 use qscalar::{Quat, Scalar};
 use qsparse::SparseMatrix;
 
-use super::kernel::flat_faces;
+use super::kernel::{flat_faces, vanishing_faces};
 use super::{Operator, SpectrumError};
 use crate::TriMesh;
 use crate::curvature::willmore_potential;
@@ -50,7 +50,8 @@ pub(super) struct PencilSpec {
     /// The same with the rows of flat faces of `D` set to zero, when any face is flat: the
     /// matrices that are solved, whose kernel is then exact.
     pub exact: Option<Matrices>,
-    /// Per face: its row of the first-order operator vanishes (all `false` without one).
+    /// Per face: its row of the first-order operator is set to zero, because the face is flat
+    /// and around a flat vertex (all `false` without a first-order operator).
     pub flat: Vec<bool>,
     /// The Gauss map `N` that decides flatness (relative Dirac operators).
     pub normals: Option<Vec<[f64; 3]>>,
@@ -202,7 +203,9 @@ impl FirstOrder {
             None => d,
         };
         let flat = match &normals {
-            Some(normals) => flat_faces(mesh, normals, potential, flat_tolerance),
+            Some(normals) => {
+                vanishing_faces(mesh, &flat_faces(mesh, normals, potential, flat_tolerance))
+            }
             None => vec![false; mesh.face_count()],
         };
         let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices, SpectrumError> {

@@ -73,8 +73,13 @@ impl Reduced {
 }
 
 /// How many nonzero pairs the form can deliver on this kernel.
-pub(super) fn available(form: Form, matrices: &Matrices, kernel: &ExactKernel) -> usize {
-    reduce(form, matrices, kernel).map_or(0, |r| r.available())
+pub(super) fn available(
+    form: Form,
+    matrices: &Matrices,
+    kernel: &ExactKernel,
+    masses: &[f64],
+) -> usize {
+    reduce(form, matrices, kernel, masses).map_or(0, |r| r.available())
 }
 
 /// The `count` nonzero eigenpairs of smallest `|λ|`.
@@ -87,7 +92,7 @@ pub(super) fn solve(
     options: &SpectrumOptions,
     progress: ProgressCallback,
 ) -> Result<Pairs, SolveError> {
-    let reduced = reduce(form, matrices, kernel)?;
+    let reduced = reduce(form, matrices, kernel, masses)?;
     let n = masses.len();
     let mut pairs = match form {
         Form::Shifted { epsilon } => {
@@ -96,20 +101,26 @@ pub(super) fn solve(
         }
         Form::Pinned => {
             let eigen = run(&reduced, count, Which::LargestMagnitude, options, progress)?;
-            // No shift: `λ = 1/μ` exactly.
+            // No shift: `λ = 1/μ`, refined below.
             map_pairs(eigen, &reduced, n, |mu| 1.0 / mu)
         }
         Form::Literal { sigma } => literal(&reduced, sigma, count, options, progress)?,
     };
-    for (x, &lambda) in pairs.vectors.iter_mut().zip(&pairs.values) {
+    for (x, lambda) in pairs.vectors.iter_mut().zip(&mut pairs.values) {
         for mode in &kernel.constants {
             match (form, mode.coupling) {
                 (Form::Pinned, Coupling::Orthogonal) => {
-                    restore_constant(matrices, &mode.vertices, lambda, x)
+                    restore_constant(matrices, &mode.vertices, *lambda, x)
                 }
                 (Form::Pinned, Coupling::Oblique) => project_oblique(matrices, &mode.vertices, x),
                 _ => remove_mass_mean(masses, &mode.vertices, x),
             }
+        }
+        if form == Form::Pinned {
+            // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
+            // error is second order in the vector's, where `1/μ` is first order.
+            *lambda = rayleigh_quotient(&matrices.stiffness, x)
+                / rayleigh_quotient(&matrices.coupling, x);
         }
     }
     Ok(pairs)
@@ -123,14 +134,18 @@ pub(super) fn solve(
 ///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
 ///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
 /// * literal: `M y = μ (P + σM) y` on all vertices.
-fn reduce(form: Form, m: &Matrices, kernel: &ExactKernel) -> Result<Reduced, SpectrumError> {
-    let n = m.stiffness.nrows();
+fn reduce(
+    form: Form,
+    m: &Matrices,
+    kernel: &ExactKernel,
+    masses: &[f64],
+) -> Result<Reduced, SpectrumError> {
     let flat = kernel.flat_vertices.iter().copied();
     let pins = kernel.constants.iter().map(|c| c.vertices[0]);
     let reduction = match form {
-        Form::Pinned => Reduction::without(n, flat.chain(pins)),
-        Form::Literal { .. } => Reduction::without(n, []),
-        Form::Shifted { .. } => Reduction::without(n, flat),
+        Form::Pinned => Reduction::without(masses, flat.chain(pins)),
+        Form::Literal { .. } => Reduction::without(masses, []),
+        Form::Shifted { .. } => Reduction::without(masses, flat),
     };
     let mut constraints = Vec::new();
     let mut low_rank = Vec::new();
@@ -139,11 +154,11 @@ fn reduce(form: Form, m: &Matrices, kernel: &ExactKernel) -> Result<Reduced, Spe
         match (form, mode.coupling) {
             (Form::Literal { .. }, _) | (Form::Pinned, Coupling::Free) => {}
             (Form::Shifted { .. }, _) | (Form::Pinned, Coupling::Orthogonal) => {
-                constraints.push(reduction.vector(&g))
+                constraints.push(reduction.functional(&g))
             }
             (Form::Pinned, Coupling::Oblique) => {
                 let along = indicator_inner(&mode.vertices, &g);
-                low_rank.push((reduction.vector(&g), 1.0 / along));
+                low_rank.push((reduction.functional(&g), 1.0 / along));
             }
         }
     }
@@ -315,4 +330,12 @@ fn remove_mass_mean(masses: &[f64], support: &[usize], x: &mut [Quat<f64>]) {
     let total: f64 = support.iter().map(|&p| masses[p]).sum();
     let mean = support.iter().map(|&p| x[p] * masses[p]).sum::<Quat<f64>>() / total;
     support.iter().for_each(|&p| x[p] -= mean);
+}
+
+/// `Re(x* A x)`.
+fn rayleigh_quotient(a: &SparseMatrix<Quat<f64>>, x: &[Quat<f64>]) -> f64 {
+    let mut ax = vec![Quat::default(); x.len()];
+    a.mul_vec(x, &mut ax)
+        .expect("square operator of the vector's size");
+    vector::inner(x, &ax).re()
 }
