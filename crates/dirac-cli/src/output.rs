@@ -22,7 +22,7 @@ pub struct Report {
     #[serde(skip)]
     pub topology: Topology,
     /// The operator and solver options (the keys `operator`, `tau`, `k`, `backend`,
-    /// `normalize`, `well`).
+    /// `normalize`, `well`, `include_kernel`, `flat_tolerance`).
     #[serde(flatten)]
     pub settings: RunSettings,
     /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
@@ -48,10 +48,6 @@ pub struct KernelReport {
     pub flat_vertices: usize,
     /// Connected pieces of the other vertices whose constant function is in the kernel.
     pub constants: usize,
-    /// Whether the kernel's zeros are among the eigenvalues.
-    pub listed: bool,
-    /// The `--flat-tolerance` in force.
-    pub flat_tolerance: f64,
 }
 
 /// The options of a run, as [`Report`] and the JSON name them.
@@ -69,6 +65,10 @@ pub struct RunSettings {
     pub normalize: String,
     /// The potential well, `null` without one.
     pub well: Option<WellReport>,
+    /// Whether the kernel's zeros are listed among the eigenvalues.
+    pub include_kernel: bool,
+    /// The `--flat-tolerance`.
+    pub flat_tolerance: f64,
 }
 
 impl RunSettings {
@@ -86,6 +86,8 @@ impl RunSettings {
                 steepness: w.steepness,
                 height: w.height,
             }),
+            include_kernel: options.include_kernel,
+            flat_tolerance: options.flat_tolerance,
         }
     }
 }
@@ -157,12 +159,7 @@ impl Report {
     }
 
     /// Copies the eigenvalues, residuals and statistics of `spectrum` into the report.
-    pub fn set_spectrum(
-        &mut self,
-        spectrum: &Spectrum,
-        options: &SpectrumOptions,
-        assemble_and_solve: Duration,
-    ) {
+    pub fn set_spectrum(&mut self, spectrum: &Spectrum, assemble_and_solve: Duration) {
         let s = &spectrum.statistics;
         self.eigenvalues.clone_from(&spectrum.eigenvalues);
         self.residuals.clone_from(&spectrum.residuals);
@@ -170,8 +167,6 @@ impl Report {
         self.kernel = KernelReport {
             flat_vertices: spectrum.kernel.flat_vertices,
             constants: spectrum.kernel.constants,
-            listed: options.include_kernel,
-            flat_tolerance: options.flat_tolerance,
         };
         self.statistics = StatisticsReport {
             iterations: s.iterations,
@@ -234,18 +229,21 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         )?;
     }
     let kernel = &report.kernel;
+    let plural = |count: usize, one: &str, many: &str| {
+        format!("{count} {}", if count == 1 { one } else { many })
+    };
     writeln!(
         out,
-        "kernel      dimension {} ({} flat vertices, {} constants; {}, flat tolerance {:e})",
+        "kernel      dimension {}: {} + {}; {}; flat tolerance {:e}",
         report.kernel_dimension,
-        kernel.flat_vertices,
-        kernel.constants,
-        if kernel.listed {
+        plural(kernel.flat_vertices, "flat vertex", "flat vertices"),
+        plural(kernel.constants, "constant", "constants"),
+        if settings.include_kernel {
             "listed as eigenvalue 0"
         } else {
-            "not listed, see --include-kernel"
+            "not listed (--include-kernel lists it)"
         },
-        kernel.flat_tolerance
+        settings.flat_tolerance
     )?;
     writeln!(out)?;
     writeln!(

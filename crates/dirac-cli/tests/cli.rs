@@ -248,3 +248,57 @@ fn non_convergence_exits_3_with_the_partial_result() {
     assert_eq!(numbers(&report["residuals"]).len(), converged);
     assert!(stderr(&output).contains("converged only"));
 }
+
+#[test]
+fn the_kernel_is_reported_listed_on_request_and_a_plane_is_explained() {
+    // The 5×5-per-side cube: 6 (5 − 3)² = 24 flat vertices and the constants.
+    let cube = dirac::generators::subdivided_cube(5).unwrap();
+    let path = write_off(&cube, temporary("cube5_kernel.off"));
+    let plain = json(&dirac(&[
+        "spectrum",
+        text(&path),
+        "-k",
+        "3",
+        "--json",
+        "-q",
+    ]));
+    assert_eq!(plain["kernel_dimension"], 25);
+    assert_eq!(plain["kernel"]["flat_vertices"], 24);
+    assert_eq!(plain["include_kernel"], false);
+    assert!(
+        numbers(&plain["eigenvalues"])
+            .iter()
+            .all(|l| l.abs() > 1e-3)
+    );
+    let listed = json(&dirac(&[
+        "spectrum",
+        text(&path),
+        "-k",
+        "28",
+        "--include-kernel",
+        "--json",
+        "-q",
+    ]));
+    let values = numbers(&listed["eigenvalues"]);
+    assert!(values[..25].iter().all(|&l| l == 0.0));
+    assert_eq!(values[25..], numbers(&plain["eigenvalues"])[..]);
+    // Laplace lists its constant by default and drops it on request.
+    let laplace = |extra: &[&str]| {
+        let mut args = vec!["spectrum", text(&path), "--operator", "laplace", "-k", "2"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--json", "-q"]);
+        numbers(&json(&dirac(&args))["eigenvalues"])
+    };
+    assert_eq!(laplace(&[])[0], 0.0);
+    assert!(laplace(&["--exclude-kernel"])[0] > 0.0);
+
+    let plane = dirac::generators::grid(6, 4, 1.5, 1.0).unwrap();
+    let path = write_off(&plane, temporary("plane_kernel.off"));
+    let output = dirac(&["spectrum", text(&path), "-k", "3"]);
+    assert_eq!(output.status.code(), Some(1));
+    let message = stderr(&output);
+    assert!(
+        message.contains("Gauss map is constant") && message.contains("--operator family"),
+        "{message}"
+    );
+}

@@ -10,7 +10,7 @@ use dirac::geometry::barycentric_masses;
 use dirac::operators::{DiracPencil, normal_dirac};
 use dirac::phase::mass_inner;
 use dirac::spectrum::{
-    Normalization, Operator, Spectrum, SpectrumError, SpectrumOptions, spectrum,
+    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, spectrum,
 };
 use qeig::dense::hermitian_eigen;
 use qscalar::Quat;
@@ -297,4 +297,60 @@ fn pairs_whose_true_residual_is_large_are_not_reported_as_converged() {
     // With the default tolerance the same solve converges.
     options.flat_tolerance = dirac::spectrum::DEFAULT_FLAT_TOLERANCE;
     assert!(spectrum(&mesh, &options).is_ok());
+}
+
+#[test]
+fn the_family_approaches_every_nonzero_relative_dirac_eigenvalue_as_tau_tends_to_one() {
+    // The family's extra flat-region modes have Laplacian-like values; each relative Dirac
+    // eigenvalue must still be approached.
+    let mesh = subdivided_cube(5).unwrap();
+    let dirac = relative_dirac(&mesh, 6).unwrap();
+    let family = spectrum(
+        &mesh,
+        &SpectrumOptions::new(Operator::Family { tau: 1.0 - 1e-7 }, 80),
+    )
+    .unwrap();
+    for &lambda in &dirac.eigenvalues {
+        let nearest = family
+            .eigenvalues
+            .iter()
+            .map(|&mu| (mu - lambda).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest <= 1e-4 * lambda.abs(),
+            "λ = {lambda}: nearest family value {nearest} away"
+        );
+    }
+}
+
+#[test]
+fn every_backend_and_operator_handles_the_flat_kernel() {
+    let mesh = subdivided_cube(5).unwrap();
+    let kernel = 6 * 4 + 1;
+    let native = relative_dirac(&mesh, 6).unwrap();
+    for backend in [SolverBackend::RealBlock, SolverBackend::ComplexAdjoint] {
+        let options = SpectrumOptions {
+            backend,
+            ..SpectrumOptions::new(Operator::RelativeDirac, 6)
+        };
+        let other = spectrum(&mesh, &options).unwrap();
+        assert_eq!(other.kernel.dimension, kernel);
+        for (x, y) in other.eigenvalues.iter().zip(&native.eigenvalues) {
+            assert!((x - y).abs() <= 1e-9 * y.abs(), "{backend:?}: {x} vs {y}");
+        }
+    }
+    // The extrinsic Dirac operator does not vanish on flat faces: only the constants.
+    let extrinsic = spectrum(&mesh, &SpectrumOptions::new(Operator::ExtrinsicDirac, 4)).unwrap();
+    assert_eq!(extrinsic.kernel.dimension, 1);
+    // Nor do the Laplacian-based ones; Laplace and the literal family list their constant
+    // first, while the Willmore potential of the modified Dirichlet Hessian (positive on the
+    // edges) leaves it no kernel.
+    for operator in [Operator::Laplace, Operator::FamilyLiteral { tau: 0.5 }] {
+        let result = spectrum(&mesh, &SpectrumOptions::new(operator, 4)).unwrap();
+        assert!(result.eigenvalues[0].abs() < 1e-9, "{operator:?}");
+    }
+    let willmore = SpectrumOptions::new(Operator::ModifiedDirichlet, 4);
+    let modified = spectrum(&mesh, &willmore).unwrap();
+    assert_eq!(modified.kernel.dimension, 0);
+    assert!(modified.eigenvalues[0] > 0.0);
 }

@@ -299,7 +299,7 @@ fn process(mesh_path: &Path, args: &BatchArgs, options: &SpectrumOptions, settin
     };
     match solve(&mesh, &report.mesh, options, true) {
         Ok(solved) => {
-            report.set_spectrum(&solved.spectrum, options, solved.elapsed);
+            report.set_spectrum(&solved.spectrum, solved.elapsed);
             report.converged = solved.converged;
             row.status = if solved.converged {
                 Status::Ok

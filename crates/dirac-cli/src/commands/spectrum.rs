@@ -61,7 +61,7 @@ pub fn run(args: &SpectrumArgs) -> Result<ExitCode, CommandError> {
     );
 
     let solved = solve(&mesh, &report.mesh, &options, args.quiet)?;
-    report.set_spectrum(&solved.spectrum, &options, solved.elapsed);
+    report.set_spectrum(&solved.spectrum, solved.elapsed);
     report.converged = solved.converged;
     let code = solved.exit_code(&report.mesh, options.k, "printing those");
 

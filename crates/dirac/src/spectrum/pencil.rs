@@ -92,16 +92,7 @@ impl PencilSpec {
                 potential,
                 mesh,
             ),
-            Operator::Squared => {
-                let first = dirac(DiracKind::Normal)?;
-                let mut spec = Self::shifted(first.stiffness(), mass, &masses, potential, mesh);
-                spec.exact = first.exact.map(|exact| Matrices {
-                    stiffness: exact.stiffness,
-                    coupling: spec.operator.coupling.clone(),
-                });
-                (spec.flat, spec.normals) = (first.flat, first.normals);
-                spec
-            }
+            Operator::Squared => dirac(DiracKind::Normal)?.squared(mass, &masses, potential, mesh),
             Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
                 dirac(DiracKind::Normal)?.pinned()
             }
@@ -229,9 +220,21 @@ impl FirstOrder {
         })
     }
 
-    /// `A` as assembled.
-    fn stiffness(&self) -> SparseMatrix<Quat<f64>> {
-        self.operator.stiffness.clone()
+    /// `A x = ν M x` in shifted form, with the flat faces of `D_N`.
+    fn squared(
+        self,
+        mass: SparseMatrix<Quat<f64>>,
+        masses: &[f64],
+        potential: Option<&[f64]>,
+        mesh: &TriMesh,
+    ) -> PencilSpec {
+        let mut spec = PencilSpec::shifted(self.operator.stiffness, mass, masses, potential, mesh);
+        spec.exact = self.exact.map(|exact| Matrices {
+            stiffness: exact.stiffness,
+            coupling: spec.operator.coupling.clone(),
+        });
+        (spec.flat, spec.normals) = (self.flat, self.normals);
+        spec
     }
 
     /// `A x = λ G x` in pinned form.
