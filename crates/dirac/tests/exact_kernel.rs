@@ -177,6 +177,33 @@ fn capped_cylinder_kernel_and_spectrum_match_the_dense_reference() {
 }
 
 #[test]
+fn chamfered_cube_kernel_and_spectrum_match_the_dense_reference() {
+    // The cube [−1, 1]³ with its edge x = y = 1 cut by the plane x + y = 1.5: points beyond it
+    // move onto it along (−1, −1, 0), so the ±z faces stay planar and the chamfer is a new
+    // planar face between two creases.
+    let mesh = subdivided_cube(6)
+        .unwrap()
+        .map_positions(|[x, y, z]| {
+            let beyond = (x + y - 1.5).max(0.0) / 2.0;
+            [x - beyond, y - beyond, z]
+        })
+        .unwrap();
+    let (kernel, reference) = dense_reference(&mesh);
+    let result = relative_dirac(&mesh, 10).unwrap();
+    assert_eq!(result.kernel.dimension, kernel);
+    assert!(
+        kernel > 1 && kernel < 6 * 9 + 1,
+        "the chamfer removes flat vertices: {kernel}"
+    );
+    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "λ_{i}: {got} against dense {want}"
+        );
+    }
+}
+
+#[test]
 fn kernel_and_nonzero_spectrum_are_invariant_under_rigid_motion() {
     let mesh = subdivided_cube(6).unwrap();
     let a = relative_dirac(&mesh, 10).unwrap();

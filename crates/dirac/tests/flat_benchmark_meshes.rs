@@ -89,3 +89,39 @@ fn flat_benchmark_meshes_have_their_exact_kernel_and_every_operator_converges() 
         }
     }
 }
+
+#[test]
+fn every_benchmark_mesh_and_fandisk_converge_for_every_operator() {
+    let shared = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/meshes");
+    let Ok(entries) = std::fs::read_dir(shared.join("psb")) else {
+        eprintln!("{} is absent: nothing checked", shared.display());
+        return;
+    };
+    let mut meshes: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "off"))
+        .collect();
+    meshes.sort();
+    meshes.push(shared.join("fandisk.off"));
+    assert!(meshes.len() >= 20, "{meshes:?}");
+    for path in meshes {
+        let mesh = read_mesh(&path).unwrap();
+        for operator in [
+            Operator::RelativeDirac,
+            Operator::Family { tau: 0.5 },
+            Operator::Squared,
+        ] {
+            let options = SpectrumOptions {
+                normalization: Normalization::UnitArea,
+                ..SpectrumOptions::new(operator, 16)
+            };
+            let result = spectrum(&mesh, &options);
+            assert!(
+                result.as_ref().is_ok_and(|s| s.eigenvalues.len() == 16),
+                "{}, {operator:?}: {:?}",
+                path.display(),
+                result.err()
+            );
+        }
+    }
+}

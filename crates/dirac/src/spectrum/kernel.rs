@@ -217,16 +217,17 @@ impl Reduction {
         }
     }
 
-    /// `W X W` on the kept vertices, `W = M^{-1/2}`: the matrix in scaled coordinates.
-    pub fn matrix(&self, x: &SparseMatrix<Quat<f64>>) -> SparseMatrix<Quat<f64>> {
+    /// `W X W` on the kept vertices, `W = M^{-1/2}`: the matrix in scaled coordinates; `None`
+    /// if an entry leaves floating-point range.
+    pub fn matrix(&self, x: &SparseMatrix<Quat<f64>>) -> Option<SparseMatrix<Quat<f64>>> {
         let mut t = TripletMatrix::with_capacity(self.kept.len(), self.kept.len(), x.nnz());
         for (i, j, v) in x.triplets() {
             if let (Some(r), Some(c)) = (self.index[i], self.index[j]) {
-                t.push(r, c, v * (self.weights[r] * self.weights[c]))
-                    .expect("reduced indices are in range");
+                // Indices are in range, so the only failure is a non-finite entry.
+                t.push(r, c, v * (self.weights[r] * self.weights[c])).ok()?;
             }
         }
-        t.to_csc()
+        Some(t.to_csc())
     }
 
     /// `W c` on the kept vertices: an integrated quantity (a constraint's functional, a term of

@@ -246,6 +246,13 @@ pub enum SpectrumError {
     /// The flat tolerance is negative or not a number.
     #[error("flat tolerance {0} must be a finite number ≥ 0")]
     InvalidFlatTolerance(f64),
+    /// The operator's entries leave floating-point range when weighted by the vertex masses.
+    #[error(
+        "the operator's entries leave floating-point range when weighted by the vertex masses: \
+         the mesh mixes extremely large and extremely small elements; scale it (--normalize \
+         unit-area) or remove its degenerate faces"
+    )]
+    ScaleOutOfRange,
     /// The operator vanishes identically on the mesh: its Gauss map is constant (the mesh is
     /// planar, or every face is flat), so every function is in its kernel.
     #[error(

@@ -162,10 +162,8 @@ fn reduce(
             }
         }
     }
-    let (p, q) = (
-        reduction.matrix(&m.stiffness),
-        reduction.matrix(&m.coupling),
-    );
+    let scaled = |x| reduction.matrix(x).ok_or(SpectrumError::ScaleOutOfRange);
+    let (p, q) = (scaled(&m.stiffness)?, scaled(&m.coupling)?);
     let s = match form {
         Form::Shifted { epsilon: shift } | Form::Literal { sigma: shift } => {
             SparseMatrix::linear_combination(Quat::from_real(1.0), &p, Quat::from_real(shift), &q)
