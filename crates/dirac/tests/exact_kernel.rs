@@ -203,6 +203,78 @@ fn chamfered_cube_kernel_and_spectrum_match_the_dense_reference() {
     }
 }
 
+/// The boundary of a union of voxels (unit cells of the integer grid, scaled by `1/n`), as
+/// two triangles per boundary square, counter-clockwise seen from outside.
+fn voxel_surface(inside: impl Fn([i64; 3]) -> bool, extent: i64, n: f64) -> TriMesh {
+    let mut index = std::collections::HashMap::new();
+    let mut positions = Vec::new();
+    let mut vertex = |p: [i64; 3]| {
+        *index.entry(p).or_insert_with(|| {
+            positions.push(p.map(|c| c as f64 / n));
+            positions.len() - 1
+        })
+    };
+    let mut faces = Vec::new();
+    for x in 0..extent {
+        for y in 0..extent {
+            for z in 0..extent {
+                let cell = [x, y, z];
+                if !inside(cell) {
+                    continue;
+                }
+                for a in 0..3 {
+                    let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+                    for side in [0, 1] {
+                        let mut neighbour = cell;
+                        neighbour[a] += 2 * side - 1;
+                        if inside(neighbour) {
+                            continue;
+                        }
+                        // Corners in the (b, c) plane, counter-clockwise about +e_a.
+                        let mut corners = [[0, 0], [1, 0], [1, 1], [0, 1]].map(|[u, v]| {
+                            let mut p = cell;
+                            p[a] += side;
+                            p[b] += u;
+                            p[c] += v;
+                            vertex(p)
+                        });
+                        if side == 0 {
+                            corners.reverse();
+                        }
+                        faces.push([corners[0], corners[1], corners[2]]);
+                        faces.push([corners[0], corners[2], corners[3]]);
+                    }
+                }
+            }
+        }
+    }
+    TriMesh::new(positions, faces).unwrap()
+}
+
+#[test]
+fn l_shaped_box_kernel_and_spectrum_match_the_dense_reference() {
+    // An L-shaped prism (a 6 × 6 square without one 3 × 3 quadrant, 3 high): a concave crease
+    // among the convex ones.
+    let n = 3;
+    let inside = |[x, y, z]: [i64; 3]| {
+        (0..2 * n).contains(&x)
+            && (0..2 * n).contains(&y)
+            && (0..n).contains(&z)
+            && (x < n || y < n)
+    };
+    let mesh = voxel_surface(inside, 2 * n, n as f64);
+    let (kernel, reference) = dense_reference(&mesh);
+    let result = relative_dirac(&mesh, 10).unwrap();
+    assert_eq!(result.kernel.dimension, kernel);
+    assert!(result.kernel.flat_vertices > 0);
+    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "λ_{i}: {got} against dense {want}"
+        );
+    }
+}
+
 #[test]
 fn kernel_and_nonzero_spectrum_are_invariant_under_rigid_motion() {
     let mesh = subdivided_cube(6).unwrap();
