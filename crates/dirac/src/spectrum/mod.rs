@@ -7,14 +7,14 @@
 //! | Laplace | `L x = λ M x` (`L⊗I`) | `M x = μ (L + εM) x`, `λ = 1/μ − ε` | constants of each component | yes |
 //! | modified Dirichlet `Δ + U` | `(L + M diag(U)) x = λ M x` | as Laplace | constants where `U = 0` | yes |
 //! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants | no |
-//! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y`, `λ = y*Ay / y*Gy` | flat vertices, constants | no |
+//! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y` (pinned), `λ = x*Ax / x*Gx` | flat vertices, constants | no |
 //! | family `L(τ)`, blended, `0 < τ < 1` | `A_τ x = λ B_τ x` | as Dirac | constants | yes |
 //! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | not analysed | — |
 //!
 //! with `U = κ₁² + κ₂²` the Willmore potential ([`crate::curvature::willmore_potential`]),
 //! `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M` (τ = 0 is
-//! Laplace, τ = 1 relative Dirac), `ε` a shift `10⁻¹⁰` times the largest diagonal ratio of `P`
-//! to `M` (mapped back exactly) and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
+//! Laplace, τ = 1 relative Dirac), `ε` a shift `10⁻¹⁰` times the mean diagonal ratio of `P`
+//! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite.
 //!
 //! **The kernel.** A face is flat when its corner normals agree within
