@@ -120,6 +120,21 @@ fn relative_dirac(mesh: &TriMesh, k: usize) -> Result<Spectrum, SpectrumError> {
     spectrum(mesh, &SpectrumOptions::new(Operator::RelativeDirac, k))
 }
 
+/// The relative Dirac spectrum of `mesh` (`k` pairs), asserted against [`dense_reference`]:
+/// the same kernel dimension and eigenvalues to `10⁻⁹`.
+fn agrees_with_dense(mesh: &TriMesh, k: usize) -> Spectrum {
+    let (kernel, reference) = dense_reference(mesh);
+    let result = relative_dirac(mesh, k).unwrap();
+    assert_eq!(result.kernel.dimension, kernel);
+    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
+        assert!(
+            (got - want).abs() <= 1e-9 * want.abs(),
+            "λ_{i}: {got} against dense {want}"
+        );
+    }
+    result
+}
+
 /// `mesh` under a rotation and a translation (the flat faces' normals then differ by
 /// rounding instead of being exactly equal).
 fn rotated(mesh: &TriMesh) -> TriMesh {
@@ -133,19 +148,11 @@ fn rotated(mesh: &TriMesh) -> TriMesh {
 fn cube_kernel_and_spectrum_match_the_dense_reference() {
     for n in [4, 5] {
         let mesh = subdivided_cube(n).unwrap();
-        let (kernel, reference) = dense_reference(&mesh);
-        assert_eq!(kernel, 6 * (n - 3) * (n - 3) + 1, "dense nullity, n = {n}");
-        let k = 12;
-        let result = relative_dirac(&mesh, k).unwrap();
+        let result = agrees_with_dense(&mesh, 12);
+        let kernel = 6 * (n - 3) * (n - 3) + 1;
         assert_eq!(result.kernel.dimension, kernel, "n = {n}");
         assert_eq!(result.kernel.flat_vertices, kernel - 1);
         assert_eq!(result.kernel.constants, 1);
-        for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
-            assert!(
-                (got - want).abs() <= 1e-9 * want.abs(),
-                "n = {n}, λ_{i}: {got} against dense {want}"
-            );
-        }
         assert!(
             result.residuals.iter().all(|&r| r <= 1e-8),
             "{:?}",
@@ -162,18 +169,9 @@ fn cube_kernel_and_spectrum_match_the_dense_reference() {
 
 #[test]
 fn capped_cylinder_kernel_and_spectrum_match_the_dense_reference() {
-    let mesh = capped_cylinder(12, 5, 4);
-    let (kernel, reference) = dense_reference(&mesh);
-    let result = relative_dirac(&mesh, 10).unwrap();
+    let result = agrees_with_dense(&capped_cylinder(12, 5, 4), 10);
     // Flat: the cap vertices not next to the rim (2 caps × (2 rings × 12 + centre)).
     assert_eq!(result.kernel.flat_vertices, 2 * (2 * 12 + 1));
-    assert_eq!(result.kernel.dimension, kernel);
-    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
-        assert!(
-            (got - want).abs() <= 1e-9 * want.abs(),
-            "λ_{i}: {got} against dense {want}"
-        );
-    }
 }
 
 #[test]
@@ -188,19 +186,11 @@ fn chamfered_cube_kernel_and_spectrum_match_the_dense_reference() {
             [x - beyond, y - beyond, z]
         })
         .unwrap();
-    let (kernel, reference) = dense_reference(&mesh);
-    let result = relative_dirac(&mesh, 10).unwrap();
-    assert_eq!(result.kernel.dimension, kernel);
+    let kernel = agrees_with_dense(&mesh, 10).kernel.dimension;
     assert!(
         kernel > 1 && kernel < 6 * 9 + 1,
         "the chamfer removes flat vertices: {kernel}"
     );
-    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
-        assert!(
-            (got - want).abs() <= 1e-9 * want.abs(),
-            "λ_{i}: {got} against dense {want}"
-        );
-    }
 }
 
 /// The boundary of a union of voxels (unit cells of the integer grid, scaled by `1/n`), as
@@ -262,17 +252,8 @@ fn l_shaped_box_kernel_and_spectrum_match_the_dense_reference() {
             && (0..n).contains(&z)
             && (x < n || y < n)
     };
-    let mesh = voxel_surface(inside, 2 * n, n as f64);
-    let (kernel, reference) = dense_reference(&mesh);
-    let result = relative_dirac(&mesh, 10).unwrap();
-    assert_eq!(result.kernel.dimension, kernel);
+    let result = agrees_with_dense(&voxel_surface(inside, 2 * n, n as f64), 10);
     assert!(result.kernel.flat_vertices > 0);
-    for (i, (&got, &want)) in result.eigenvalues.iter().zip(&reference).enumerate() {
-        assert!(
-            (got - want).abs() <= 1e-9 * want.abs(),
-            "λ_{i}: {got} against dense {want}"
-        );
-    }
 }
 
 #[test]
