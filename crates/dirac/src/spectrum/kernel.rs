@@ -45,6 +45,8 @@ pub(super) struct ConstantMode {
     pub vertices: Vec<usize>,
     /// How the other eigenvectors relate to it.
     pub coupling: Coupling,
+    /// `g = Q 𝟙_S`, full length.
+    pub image: Vec<Quat<f64>>,
 }
 
 /// The kernel of a pencil that is known exactly: flat vertices and constant modes.
@@ -104,9 +106,13 @@ impl ExactKernel {
                 let image = image_of_indicator(stiffness, piece);
                 l1(&image) <= CONSTANT_TOLERANCE * column_mass(stiffness, piece)
             })
-            .map(|vertices| ConstantMode {
-                coupling: classify(coupling, &vertices),
-                vertices,
+            .map(|vertices| {
+                let image = image_of_indicator(coupling, &vertices);
+                ConstantMode {
+                    coupling: classify(coupling, &vertices, &image),
+                    image,
+                    vertices,
+                }
             })
             .collect();
         Self {
@@ -144,12 +150,12 @@ impl ExactKernel {
     }
 }
 
-/// The [`Coupling`] of `𝟙_S` through `Q`, judged against the size of `Q` on the piece.
-fn classify(q: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Coupling {
-    let g = image_of_indicator(q, support);
+/// The [`Coupling`] of `𝟙_S` through `Q` (`g = Q 𝟙_S`), judged against the size of `Q` on the
+/// piece.
+fn classify(q: &SparseMatrix<Quat<f64>>, support: &[usize], g: &[Quat<f64>]) -> Coupling {
     let reference = CONSTANT_TOLERANCE * column_mass(q, support);
     let along: Quat<f64> = support.iter().map(|&p| g[p]).sum();
-    if l1(&g) <= reference {
+    if l1(g) <= reference {
         Coupling::Free
     } else if along.norm() <= reference {
         Coupling::Orthogonal
@@ -172,7 +178,7 @@ fn column_mass(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> f64 {
 }
 
 /// `X 𝟙_S`.
-pub(super) fn image_of_indicator(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Vec<Quat<f64>> {
+fn image_of_indicator(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Vec<Quat<f64>> {
     let mut indicator = vec![Quat::default(); x.ncols()];
     support
         .iter()

@@ -368,8 +368,10 @@ pub fn spectrum_with_progress(
         ..Pairs::default()
     };
     if wanted > 0 {
-        check_available(&spec, &kernel, wanted, &masses)?;
+        let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
+        check_available(&kernel, wanted, reduced.available(), masses.len())?;
         pairs = solve::solve(
+            &reduced,
             spec.form,
             spec.solved(),
             &kernel,
@@ -432,15 +434,13 @@ fn normalized(
     }
 }
 
-/// Fails unless `wanted` nonzero pairs exist outside the kernel.
+/// Fails unless `wanted` nonzero pairs exist outside the kernel (`available` of them do).
 fn check_available(
-    spec: &PencilSpec,
     kernel: &ExactKernel,
     wanted: usize,
-    masses: &[f64],
+    available: usize,
+    vertices: usize,
 ) -> Result<(), SpectrumError> {
-    let vertices = masses.len();
-    let available = solve::available(spec.form, spec.solved(), kernel, masses);
     if wanted <= available {
         return Ok(());
     }
@@ -465,10 +465,9 @@ fn singular_error(
 ) -> SpectrumError {
     match error {
         SolveError::Other(e) => e,
-        SolveError::Singular(singular) => SpectrumError::NearlySingular {
-            vertex: singular.vertex,
-            flatness: singular
-                .vertex
+        SolveError::Singular(vertex) => SpectrumError::NearlySingular {
+            vertex,
+            flatness: vertex
                 .zip(spec.normals.as_ref())
                 .map(|(v, normals)| flatness_around(mesh, normals, v)),
             flat_tolerance,

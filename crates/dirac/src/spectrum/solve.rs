@@ -8,7 +8,7 @@ use qeig::{
 use qscalar::{Quat, Scalar};
 use qsparse::{CholeskyError, SparseMatrix, vector};
 
-use super::kernel::{Coupling, ExactKernel, Reduction, image_of_indicator};
+use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
@@ -28,20 +28,11 @@ pub(super) struct Pairs {
 /// The progress callback, reborrowed for each solve.
 pub(super) type ProgressCallback<'a, 'b> = &'a mut Option<&'b mut dyn FnMut(&Progress)>;
 
-/// A factorisation of the reduced `S` failed at this vertex (`None` for the embedded
-/// backends, which do not say where).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Singular {
-    /// The vertex of the failing pivot.
-    pub vertex: Option<usize>,
-    /// Its value.
-    pub pivot: Option<f64>,
-}
-
 /// What can stop a solve.
 pub(super) enum SolveError {
-    /// `S` is not numerically positive definite.
-    Singular(Singular),
+    /// `S` is not numerically positive definite; the vertex of the failing pivot (`None` for
+    /// the embedded backends, which do not say where).
+    Singular(Option<usize>),
     /// Anything else.
     Other(SpectrumError),
 }
@@ -54,7 +45,7 @@ impl From<SpectrumError> for SolveError {
 
 /// The problem one form hands to `qeig`: `K y = μ S y` on the reduced space with
 /// constraints `cᴴ y = 0`.
-struct Reduced {
+pub(super) struct Reduced {
     reduction: Reduction,
     k: SparseMatrix<Quat<f64>>,
     s: SparseMatrix<Quat<f64>>,
@@ -64,7 +55,7 @@ struct Reduced {
 
 impl Reduced {
     /// Dimension left for eigenpairs.
-    fn available(&self) -> usize {
+    pub fn available(&self) -> usize {
         self.reduction
             .kept
             .len()
@@ -72,18 +63,10 @@ impl Reduced {
     }
 }
 
-/// How many nonzero pairs the form can deliver on this kernel.
-pub(super) fn available(
-    form: Form,
-    matrices: &Matrices,
-    kernel: &ExactKernel,
-    masses: &[f64],
-) -> usize {
-    reduce(form, matrices, kernel, masses).map_or(0, |r| r.available())
-}
-
-/// The `count` nonzero eigenpairs of smallest `|λ|`.
+/// The `count` nonzero eigenpairs of smallest `|λ|`, from the problem [`reduce`] built with
+/// the same arguments.
 pub(super) fn solve(
+    reduced: &Reduced,
     form: Form,
     matrices: &Matrices,
     kernel: &ExactKernel,
@@ -92,27 +75,26 @@ pub(super) fn solve(
     options: &SpectrumOptions,
     progress: ProgressCallback,
 ) -> Result<Pairs, SolveError> {
-    let reduced = reduce(form, matrices, kernel, masses)?;
     let n = masses.len();
     let mut pairs = match form {
         Form::Shifted { epsilon } => {
-            let eigen = run(&reduced, count, Which::LargestAlgebraic, options, progress)?;
-            map_pairs(eigen, &reduced, n, |mu| 1.0 / mu - epsilon)
+            let eigen = run(reduced, count, Which::LargestAlgebraic, options, progress)?;
+            map_pairs(eigen, reduced, n, |mu| 1.0 / mu - epsilon)
         }
         Form::Pinned => {
-            let eigen = run(&reduced, count, Which::LargestMagnitude, options, progress)?;
+            let eigen = run(reduced, count, Which::LargestMagnitude, options, progress)?;
             // No shift: `λ = 1/μ`, refined below.
-            map_pairs(eigen, &reduced, n, |mu| 1.0 / mu)
+            map_pairs(eigen, reduced, n, |mu| 1.0 / mu)
         }
-        Form::Literal { sigma } => literal(&reduced, sigma, count, options, progress)?,
+        Form::Literal { sigma } => literal(reduced, sigma, count, options, progress)?,
     };
     for (x, lambda) in pairs.vectors.iter_mut().zip(&mut pairs.values) {
         for mode in &kernel.constants {
             match (form, mode.coupling) {
                 (Form::Pinned, Coupling::Orthogonal) => {
-                    restore_constant(matrices, &mode.vertices, *lambda, x)
+                    restore_constant(matrices, mode, *lambda, x)
                 }
-                (Form::Pinned, Coupling::Oblique) => project_oblique(matrices, &mode.vertices, x),
+                (Form::Pinned, Coupling::Oblique) => project_oblique(mode, x),
                 _ => remove_mass_mean(masses, &mode.vertices, x),
             }
         }
@@ -134,7 +116,7 @@ pub(super) fn solve(
 ///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
 ///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
 /// * literal: `M y = μ (P + σM) y` on all vertices.
-fn reduce(
+pub(super) fn reduce(
     form: Form,
     m: &Matrices,
     kernel: &ExactKernel,
@@ -150,15 +132,15 @@ fn reduce(
     let mut constraints = Vec::new();
     let mut low_rank = Vec::new();
     for mode in &kernel.constants {
-        let g = image_of_indicator(&m.coupling, &mode.vertices);
+        let g = &mode.image;
         match (form, mode.coupling) {
             (Form::Literal { .. }, _) | (Form::Pinned, Coupling::Free) => {}
             (Form::Shifted { .. }, _) | (Form::Pinned, Coupling::Orthogonal) => {
-                constraints.push(reduction.functional(&g))
+                constraints.push(reduction.functional(g))
             }
             (Form::Pinned, Coupling::Oblique) => {
-                let along = indicator_inner(&mode.vertices, &g);
-                low_rank.push((reduction.functional(&g), 1.0 / along));
+                let along = indicator_inner(&mode.vertices, g);
+                low_rank.push((reduction.functional(g), 1.0 / along));
             }
         }
     }
@@ -187,10 +169,9 @@ fn indicator_inner(support: &[usize], g: &[Quat<f64>]) -> f64 {
 
 /// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode
 /// from the pinned one.
-fn project_oblique(m: &Matrices, support: &[usize], x: &mut [Quat<f64>]) {
-    let g = image_of_indicator(&m.coupling, support);
-    let c = vector::inner(&g, x) / indicator_inner(support, &g);
-    support.iter().for_each(|&p| x[p] -= c);
+fn project_oblique(mode: &ConstantMode, x: &mut [Quat<f64>]) {
+    let c = vector::inner(&mode.image, x) / indicator_inner(&mode.vertices, &mode.image);
+    mode.vertices.iter().for_each(|&p| x[p] -= c);
 }
 
 /// The eigenvalues `μ` of the reduced pencil mapped to `λ` by `to_lambda(μ, y)`, with full
@@ -282,16 +263,10 @@ fn run(
     match result {
         Ok(e) => Ok((e, true)),
         Err(EigError::NotConverged { partial, .. }) => Ok((*partial, false)),
-        Err(EigError::Factorization(CholeskyError::NotPositiveDefinite { index, pivot })) => {
-            Err(SolveError::Singular(Singular {
-                vertex: Some(reduced.reduction.kept[index]),
-                pivot: Some(pivot),
-            }))
+        Err(EigError::Factorization(CholeskyError::NotPositiveDefinite { index, .. })) => {
+            Err(SolveError::Singular(Some(reduced.reduction.kept[index])))
         }
-        Err(EigError::EmbeddedFactorization(_)) => Err(SolveError::Singular(Singular {
-            vertex: None,
-            pivot: None,
-        })),
+        Err(EigError::EmbeddedFactorization(_)) => Err(SolveError::Singular(None)),
         Err(e) => Err(eigen_error(e).into()),
     }
 }
@@ -299,11 +274,11 @@ fn run(
 /// `x ← x + 𝟙_S c` with `c = ⟨g, P x − λ Q x⟩ / (λ ⟨g, g⟩)`, `g = Q 𝟙_S`: the constant
 /// component on a coupled piece that makes `x` satisfy `P x = λ Q x` when it was solved with
 /// that component pinned to zero (least squares; exact when the rest is exact).
-fn restore_constant(m: &Matrices, support: &[usize], lambda: f64, x: &mut [Quat<f64>]) {
-    let g = image_of_indicator(&m.coupling, support);
+fn restore_constant(m: &Matrices, mode: &ConstantMode, lambda: f64, x: &mut [Quat<f64>]) {
+    let g = &mode.image;
     let residual = pencil_residual_vector(m, lambda, x);
-    let c = vector::inner(&g, &residual) / (lambda * vector::inner(&g, &g).re());
-    support.iter().for_each(|&p| x[p] += c);
+    let c = vector::inner(g, &residual) / (lambda * vector::inner(g, g).re());
+    mode.vertices.iter().for_each(|&p| x[p] += c);
 }
 
 /// `P x − λ Q x`.
