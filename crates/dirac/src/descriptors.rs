@@ -1,4 +1,5 @@
-//! Per-vertex spectral descriptors (paper §6.2–6.3, math-spec §8): the heat, Dirac and wave
+//! Per-vertex spectral descriptors (paper §6.2–6.3; docs/MATH.md,
+//! "Per-vertex descriptors"): the heat, Dirac and wave
 //! kernel signatures and the segmentation descriptor, computed from eigenpairs `(λ_i, φ_i)`.
 //!
 //! Conventions shared by every descriptor:
@@ -25,9 +26,10 @@
 //! | WKS ([`wave_kernel_signature`]) | `Σ_i g_ij \|φ_i(v)\|² / Σ_i g_ij`, `g_ij = exp(−(e_j − ln\|λ_i\|)² / 2σ²)` | energy `e_j` |
 //! | segmentation ([`segmentation_descriptor`]) | `\|φ_j(v)\| / √\|λ_j\|` over the nonzero modes | eigenvalue `λ_j` |
 //!
-//! The paper prints the kernel as `Σ e^{tλ_i} φ_i(x)²`; the missing minus sign is a typo, and
-//! `|λ|` is needed because Dirac eigenvalues are signed (math-spec §8). The segmentation
-//! descriptor is the paper's `(|φ_1|/√λ_1, |φ_2|/√λ_2, …)` with `|λ|` for the same reason.
+//! The paper prints the kernel as `Σ e^{tλ_i} φ_i(x)²`; the missing minus sign is a typo, and `|λ|`
+//! is needed because Dirac eigenvalues are signed (docs/MATH.md, "Sign conventions"). The
+//! segmentation descriptor is the paper's `(|φ_1|/√λ_1, |φ_2|/√λ_2, …)` with `|λ|` for the same
+//! reason.
 //!
 //! Default samplings ([`default_times`], [`default_wave_sampling`]) follow the original
 //! papers; see their documentation.
@@ -354,7 +356,7 @@ pub fn heat_kernel_signature(
     kernel_signature(modes, times)
 }
 
-/// The Dirac kernel signature (paper §6.3, math-spec §8):
+/// The Dirac kernel signature (paper §6.3; docs/MATH.md, "Per-vertex descriptors"):
 /// `DKS_t(v) = Σ_i e^{−t |λ_i|} |φ_i(v)|²`, one column per time `t`, zero modes included. For a
 /// nonnegative spectrum it equals the heat kernel signature.
 pub fn dirac_kernel_signature(

@@ -52,9 +52,10 @@ pub fn face_areas(mesh: &TriMesh) -> Vec<f64> {
     (0..mesh.face_count()).map(|t| mesh.face_area(t)).collect()
 }
 
-/// Area-weighted vertex normals (math-spec §1): `N_p = normalize(Σ_{t∋p} 2A_t n_t)`, where
-/// `2A_t n_t = (f_j − f_i) × (f_k − f_i)` for face `t = ijk`. Returns the first vertex whose
-/// summed normal vanishes as `Err(vertex)` (possible only on degenerate configurations).
+/// Area-weighted vertex normals (docs/MATH.md, "The operators"):
+/// `N_p = normalize(Σ_{t∋p} 2A_t n_t)`, where `2A_t n_t = (f_j − f_i) × (f_k − f_i)` for face
+/// `t = ijk`. Returns the first vertex whose summed normal vanishes as `Err(vertex)` (possible only
+/// on degenerate configurations).
 pub fn vertex_normals(mesh: &TriMesh) -> Result<Vec<[f64; 3]>, usize> {
     let p = mesh.positions();
     let mut sum = vec![[0.0; 3]; mesh.vertex_count()];
@@ -78,7 +79,7 @@ pub fn vertex_normals(mesh: &TriMesh) -> Result<Vec<[f64; 3]>, usize> {
         .collect()
 }
 
-/// Barycentric (lumped) vertex masses `Ā_p = Σ_{t∋p} A_t / 3` (math-spec §1).
+/// Barycentric (lumped) vertex masses `Ā_p = Σ_{t∋p} A_t / 3` (docs/MATH.md, "The operators").
 pub fn barycentric_masses(mesh: &TriMesh) -> Vec<f64> {
     let mut mass = vec![0.0; mesh.vertex_count()];
     for (t, face) in mesh.faces().iter().enumerate() {
@@ -90,7 +91,7 @@ pub fn barycentric_masses(mesh: &TriMesh) -> Vec<f64> {
     mass
 }
 
-/// The positive-semidefinite cotangent Laplacian (math-spec §3.4):
+/// The positive-semidefinite cotangent Laplacian (docs/MATH.md, "The operators"):
 /// `L_ij = −(cot α_ij + cot β_ij)/2` for an edge `ij` with opposite angles `α_ij`, `β_ij`
 /// (one angle on a boundary edge: Neumann), and `L_ii = −Σ_{j≠i} L_ij`.
 /// The negative of libigl's and gptoolbox's `cotmatrix`.

@@ -1,8 +1,8 @@
 //! Validated triangle meshes.
 //!
-//! [`TriMesh::new`] accepts exactly the consistently oriented, edge- and vertex-manifold
-//! triangle meshes without degenerate faces (DESIGN.md §4). Boundaries and several connected
-//! components are allowed; [`TriMesh::topology`] reports them.
+//! [`TriMesh::new`] accepts exactly the consistently oriented, edge- and vertex-manifold triangle
+//! meshes without degenerate faces (docs/ARCHITECTURE.md, "The operator layer"). Boundaries and
+//! several connected components are allowed; [`TriMesh::topology`] reports them.
 
 use qscalar::Quat;
 use thiserror::Error;
@@ -276,10 +276,10 @@ fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
 }
 
 impl TriMesh {
-    /// Builds and validates a mesh (DESIGN.md §4). Checked in this order, the first failure
-    /// is returned: non-empty; every index in range and distinct within its face; every vertex
-    /// used by a face; finite coordinates; every face of positive area with a finite reciprocal
-    /// and finite cotangents at its three corners
+    /// Builds and validates a mesh (docs/ARCHITECTURE.md, "Errors"). Checked in this order, the
+    /// first failure is returned: non-empty; every index in range and distinct within its face;
+    /// every vertex used by a face; finite coordinates; every face of positive area with a finite
+    /// reciprocal and finite cotangents at its three corners
     /// ([`corner_cotangent`](crate::geometry::corner_cotangent)); at most two faces per edge;
     /// neighbouring faces traversing their shared edge in opposite directions; the faces around
     /// each vertex forming a single fan. Boundaries and several components are allowed.

@@ -1,4 +1,4 @@
-//! The paper's discrete operators (math-spec §3), assembled as sparse matrices.
+//! The paper's discrete operators (docs/MATH.md, "The operators"), assembled as sparse matrices.
 //!
 //! For a face `t = ijk` with cyclic shifts `(p, q, r) ∈ {(i,j,k), (j,k,i), (k,i,j)}`:
 //!
@@ -10,7 +10,7 @@
 //!
 //! `D_N = D_{f,N}` uses vertex normals, `D_f = D_{f,f}` positions. `D 𝟙 = 0` on every mesh
 //! because the three differences `f2_r − f2_q` of a face sum to zero. All matrices act by left
-//! multiplication on quaternion vectors (DESIGN.md §2).
+//! multiplication on quaternion vectors (docs/ARCHITECTURE.md, "Conventions").
 
 use qscalar::Quat;
 use qsparse::{SparseError, SparseMatrix, TripletMatrix};
@@ -58,7 +58,7 @@ fn cyclic_shifts([i, j, k]: [usize; 3]) -> [(usize, usize, usize); 3] {
 }
 
 /// The relative Dirac operator `D_{f1,f2}` (`|F| × |V|`, quaternionic), with `f1` the mesh
-/// positions and `f2` the given per-vertex values (math-spec §3.1):
+/// positions and `f2` the given per-vertex values (docs/MATH.md, "The operators"):
 /// `(D ψ)_t = −(1/(2A_t)) Σ_{(p,q,r)∈C(t)} (f2_r − f2_q) ψ_p`.
 pub fn relative_dirac(
     mesh: &TriMesh,
@@ -130,7 +130,7 @@ pub fn quaternionic(x: &SparseMatrix<f64>) -> SparseMatrix<Quat<f64>> {
     x.map(Quat::from_real)
 }
 
-/// The two Hermitian matrices of a Dirac pencil (DESIGN.md §3): the stiffness
+/// The two Hermitian matrices of a Dirac pencil (docs/MATH.md, "The operators"): the stiffness
 /// `A = D* M_F D` (positive semidefinite) and the coupling `G = sym(Bᵀ M_F D)`.
 #[derive(Debug, Clone)]
 pub struct DiracPencil {

@@ -1,4 +1,4 @@
-//! Mass-orthonormal eigenvectors in canonical phase (paper §4.3, math-spec §5).
+//! Mass-orthonormal eigenvectors in canonical phase (paper §4.3; docs/MATH.md, "Canonical phase").
 //!
 //! A quaternionic eigenvector is defined up to a unit quaternion on the right, `φ ↦ φ c`. The
 //! paper fixes it with `q = Σ_p Ā_p φ_p⁻¹`, `φ ← φ q/|q|` (right multiplication), which is

@@ -1,5 +1,6 @@
-//! The infinite potential well of paper §5.1 (math-spec §6) and the heat method for geodesic
-//! distance it is built on (Crane, Weischedel, Wardetzky 2013; math-spec §7).
+//! The infinite potential well of paper §5.1 and the heat method for geodesic distance it is
+//! built on (Crane, Weischedel, Wardetzky 2013); docs/MATH.md, "The infinite potential well"
+//! and "Geodesic distance by the heat method".
 
 use qscalar::Quat;
 use qsparse::{CholeskyError, SparseCholesky, SparseError, SparseMatrix};
@@ -151,7 +152,7 @@ pub struct PotentialWell {
 impl PotentialWell {
     /// The paper's steepness `γ = 100` and height `c = 10¹⁰` around the centroid vertex, with
     /// the given radius. The constants are absolute, so they assume meshes of unit scale
-    /// (math-spec §6: normalise patches first).
+    /// (docs/MATH.md, "The infinite potential well": normalise patches first).
     pub fn with_radius(radius: f64) -> Self {
         Self {
             center: None,
@@ -208,8 +209,8 @@ pub fn centroid_vertex(mesh: &TriMesh) -> usize {
         .unwrap_or(0)
 }
 
-/// `D' = D + B diag(U)`: `(D'ψ)_t = (Dψ)_t + (1/3) Σ_{p∈t} U_p ψ_p` (paper §5.1, the unweighted
-/// pointwise reading of math-spec §6).
+/// `D' = D + B diag(U)`: `(D'ψ)_t = (Dψ)_t + (1/3) Σ_{p∈t} U_p ψ_p` (paper §5.1, read
+/// pointwise with the unweighted `U_p`; docs/MATH.md, "The infinite potential well").
 pub fn dirac_with_well(
     mesh: &TriMesh,
     dirac: &SparseMatrix<Quat<f64>>,

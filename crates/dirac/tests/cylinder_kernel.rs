@@ -1,6 +1,6 @@
-//! The kernel of `D_N` on the unit cylinder (math-spec §9): with the exact radial normals every
-//! function of the angle alone is in the kernel and the quaternionic nullity is exactly the
-//! number of segments; with area-weighted normals the kernel collapses.
+//! The kernel of `D_N` on the unit cylinder (docs/MATH.md, "What the tests check against"): with
+//! the exact radial normals every function of the angle alone is in the kernel and the quaternionic
+//! nullity is exactly the number of segments; with area-weighted normals the kernel collapses.
 
 use dirac::generators::{cylinder, cylinder_normals};
 use dirac::geometry::barycentric_masses;
@@ -28,7 +28,8 @@ fn stiffness_spectrum(a: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> Vec<f64> {
         .values
 }
 
-/// The same pencil in the real-block representation (math-spec §2), `4n × 4n`.
+/// The same pencil in the real-block representation (docs/MATH.md, "The real-block
+/// representation"), `4n × 4n`.
 fn real_block_spectrum(a: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> Vec<f64> {
     let n = masses.len();
     let mut block = DenseMatrix::<f64>::zeros(4 * n, 4 * n);
@@ -106,7 +107,8 @@ fn area_weighted_normals_shrink_the_kernel() {
         .unwrap()
         .stiffness;
     let (count, gap) = nullity(&stiffness_spectrum(&a, &masses));
-    // The constants are always in the kernel; math-spec §9 reports 2 quaternionic (8 real).
+    // The constants are always in the kernel; an independent computation on this cylinder
+    // found 2 quaternionic dimensions (8 real).
     assert!(
         (1..SEGMENTS).contains(&count),
         "nullity {count} with area-weighted normals"

@@ -1,5 +1,6 @@
 //! The sparse Lanczos spectra agree with dense solves of the same pencils on small meshes
-//! (DESIGN.md §3), and the three eigensolver backends agree with each other.
+//! (docs/MATH.md, "From operators to eigenvalues"), and the three eigensolver backends agree with
+//! each other.
 //!
 //! The dense reference never uses `ε`: for a pencil `S x = λ K x` with `S` positive
 //! semidefinite, `ker S = span_H(𝟙)` (connected mesh), every eigenvector with `λ ≠ 0`

@@ -5,7 +5,8 @@ use dirac::well::{WellError, geodesic_distance};
 
 /// Errors of the heat-method distance from the north pole (the vertex of largest `z`) against
 /// the great-circle distance `arccos⟨s, p⟩`: `(Σ|d − d*| / Σ d*, mean of |d − d*| / d*, max |d − d*|)`.
-/// The first is the "mean relative error" math-spec §7 quotes (0.9% at level 4).
+/// The first is the "mean error" docs/MATH.md quotes (0.89% at level 4, "What the tests check
+/// against").
 fn sphere_errors(level: u32) -> (f64, f64, f64) {
     let mesh = icosphere(level);
     let p = mesh.positions();

@@ -1,4 +1,5 @@
-//! Exact symmetry laws of every spectrum (math-spec §3.1, §5, §9): invariance under rigid
+//! Exact symmetry laws of every spectrum (docs/MATH.md, "Scaling and rigid motions" and
+//! "Canonical phase"): invariance under rigid
 //! motions, rotation covariance of canonical eigenvectors, scaling laws, and the sign flip of
 //! the extrinsic Dirac spectrum under orientation reversal.
 

@@ -97,7 +97,7 @@ fn sphere_eigenvalues_converge_quadratically() {
                 .fold(0.0, f64::max)
         })
         .collect();
-    // math-spec §9: 5.6 %, 1.4 %, 0.36 %.
+    // docs/MATH.md, "What the tests check against": 5.6 %, 1.4 %, 0.36 %.
     assert!(errors[0] < 0.07 && errors[2] < 0.005, "{errors:?}");
     for w in errors.windows(2) {
         let ratio = w[0] / w[1];

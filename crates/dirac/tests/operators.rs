@@ -1,4 +1,5 @@
-//! Property tests of the discrete operators against the exact identities of math-spec §3 and §9.
+//! Property tests of the discrete operators against the exact identities of docs/MATH.md,
+//! "The operators" and "What the tests check against".
 
 mod common;
 

@@ -1,5 +1,5 @@
 //! Regressions of the `qeig` Lanczos on pencils built from this crate's operators, against the
-//! dense solver of `qeig` and the closed forms of math-spec §9.
+//! dense solver of `qeig` and the closed forms of docs/MATH.md, "What the tests check against".
 
 use dirac::generators::icosphere;
 use dirac::geometry::barycentric_masses;
@@ -41,7 +41,8 @@ fn isolated_huge_eigenvalue_without_deflation() {
     for (i, (got, want)) in nu.iter().zip(&nu_truth).enumerate().skip(1) {
         assert!((got - want).abs() < 1e-8 * want, "ν[{i}] = {got} vs {want}");
     }
-    // Closed forms on the unit sphere (math-spec §9), to discretisation accuracy.
+    // Closed forms on the unit sphere (docs/MATH.md, "What the tests check against"), to
+    // discretisation accuracy.
     for (got, want) in nu
         .iter()
         .zip([0.0, 1.0, 1.0, 4.0, 4.0, 4.0, 4.0, 9.0, 9.0, 9.0, 9.0])

@@ -1,4 +1,5 @@
-//! Unit-sphere spectra of every pencil against the closed forms of math-spec §9, with the
+//! Unit-sphere spectra of every pencil against the closed forms of docs/MATH.md, "What the
+//! tests check against", with the
 //! O(h²) convergence under subdivision, and agreement of the three eigensolver backends.
 
 use dirac::generators::icosphere;
@@ -102,13 +103,13 @@ fn assert_converges(operator: Operator, exact: &[f64], bound: f64) {
 
 #[test]
 fn laplace_converges_to_l_times_l_plus_one() {
-    // math-spec §9 quotes 5.6%, 1.4%, 0.36% for the first 15 non-zero eigenvalues.
+    // docs/MATH.md quotes 5.6%, 1.4%, 0.36% for the first 15 non-zero eigenvalues.
     assert_converges(Operator::Laplace, &laplace_exact(16), 0.004);
 }
 
 #[test]
 fn extrinsic_dirac_converges_to_signed_integers() {
-    // On the unit sphere N = f, so D_f = D_N with exact normals; math-spec §9: 9.9%, 2.4%, 0.6%.
+    // On the unit sphere N = f, so D_f = D_N with exact normals; docs/MATH.md: 9.9%, 2.4%, 0.6%.
     assert_converges(Operator::ExtrinsicDirac, &dirac_exact(12), 0.007);
 }
 

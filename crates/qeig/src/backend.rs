@@ -7,8 +7,8 @@
 //! * [`Native`]: the matrices as they are (quaternion, complex or real), the native
 //!   supernodal Cholesky of `qsparse` (`C = Pᵀ L`).
 //! * [`RealBlock`]: the `REAL_DIM n × REAL_DIM n` real matrices of left-multiplication blocks
-//!   (math-spec §2), faer's supernodal Cholesky (`C = Pᵀ L` again, through faer's `L` and
-//!   `Lᴴ` half-solves). Each quaternionic eigenvalue appears 4 times.
+//!   (docs/MATH.md, "The real-block representation"), faer's supernodal Cholesky (`C = Pᵀ L` again,
+//!   through faer's `L` and `Lᴴ` half-solves). Each quaternionic eigenvalue appears 4 times.
 //! * [`ComplexAdjoint`]: the `COMPLEX_DIM n × COMPLEX_DIM n` complex adjoint, faer's
 //!   Cholesky. Each quaternionic eigenvalue appears twice.
 //!

@@ -1,17 +1,17 @@
 //! A contiguous block of vectors and the Gram–Schmidt kernels of the Lanczos iteration.
 //!
-//! Vectors form a right module over the scalar `V` (DESIGN.md §2), so projecting `w` onto the
-//! span of orthonormal `v₀ … v_{m−1}` is `w ← w − Σᵢ vᵢ ⟨vᵢ, w⟩` with the coefficient on the
-//! right. The orthogonalisation is memory-bound (the basis is far larger than the caches), so
-//! a pass is *modified* Gram–Schmidt, column by column, with the update by `vᵢ` and the
-//! coefficient of `vᵢ₊₁` fused in one sweep: each basis vector is read from memory once per
-//! pass (its second read, and `w`, come from cache), half the traffic of a classical pass
-//! through a matrix product (`Vᵀ w`, then `V G`), which streams the basis twice. The kernels
-//! work on the real component layout ([`Scalar::as_reals`]): writing `e₀ … e_{R−1}` for the
-//! units of `V` (`1, i, j, k` for quaternions, `R = REAL_DIM`), `⟨v, w⟩` is
-//! `Σ_κλ S_κλ conj(e_κ) e_λ` with the real outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, and
-//! `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`; both are pure multiply-adds over `8 R` independent lanes,
-//! the same code for `f64`, complex numbers and quaternions.
+//! Vectors form a right module over the scalar `V` (docs/ARCHITECTURE.md, "Conventions"), so
+//! projecting `w` onto the span of orthonormal `v₀ … v_{m−1}` is `w ← w − Σᵢ vᵢ ⟨vᵢ, w⟩` with
+//! the coefficient on the right. The orthogonalisation is memory-bound (the basis is far
+//! larger than the caches), so a pass is *modified* Gram–Schmidt, column by column, with the
+//! update by `vᵢ` and the coefficient of `vᵢ₊₁` fused in one sweep: each basis vector is read
+//! from memory once per pass (its second read, and `w`, come from cache), half the traffic of
+//! a classical pass through a matrix product (`Vᵀ w`, then `V G`), which streams the basis
+//! twice. The kernels ([`vector::inner_long`], [`vector::axpy_then_inner`]) work on the real
+//! component layout ([`Scalar::as_reals`]): writing `e₀ … e_{R−1}` for the units of `V`
+//! (`1, i, j, k` for quaternions, `R = REAL_DIM`), `⟨v, w⟩` is `Σ_κλ S_κλ conj(e_κ) e_λ` with
+//! the real outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, and `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`; both are
+//! pure multiply-adds over independent lanes.
 
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
@@ -213,7 +213,7 @@ fn sweep<V: Scalar<Real = f64>>(
     total: impl Fn(usize, V) -> V,
 ) {
     let column = |i: usize| &basis.col(i)[rows.clone()];
-    let mut c = total(0, inner(column(0), w));
+    let mut c = total(0, vector::inner_long(column(0), w));
     for i in 0..m {
         if let Some(coef) = coef.as_deref_mut() {
             coef[i] += c;
@@ -238,213 +238,15 @@ impl Drop for Abandon<'_> {
     }
 }
 
-/// `⟨v, w⟩ = Σ conj(vₗ) wₗ` through the real component layout with `8 R` independent
-/// accumulators (the real `R × R` outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, combined once as
-/// `Σ_κλ S_κλ conj(e_κ) e_λ`), so that the loop is bound by memory, not by the latency of a
-/// single accumulation chain (which limits a plain dot product over `f64` or complex numbers).
-pub(crate) fn inner<V: Scalar<Real = f64>>(v: &[V], w: &[V]) -> V {
-    let (a, b) = (V::as_reals(v), V::as_reals(w));
-    let s: [[f64; 4]; 4] = match V::REAL_DIM {
-        1 => widen(outer_products::<1>(a, b)),
-        2 => widen(outer_products::<2>(a, b)),
-        4 => widen(outer_products::<4>(a, b)),
-        _ => return v.iter().zip(w).map(|(&x, &y)| x.conj() * y).sum(),
-    };
-    vector::combine_outer_products(&s)
-}
-
 /// `w ← w + v c`, then `⟨next, w⟩` (zero without `next`), in one sweep over the vectors.
-pub(crate) fn update_then_inner<V: Scalar<Real = f64>>(
-    w: &mut [V],
-    v: &[V],
-    c: V,
-    next: Option<&[V]>,
-) -> V {
-    let Some(next) = next else {
-        vector::axpy(w, v, c);
-        return V::zero();
-    };
-    if V::REAL_DIM == 4 {
-        // Quaternions: qsparse's array-of-structures kernel (one quaternion per register).
-        return vector::axpy_then_inner(w, v, c, next);
-    }
-    let rows = vector::unit_products(c);
-    let (wr, vr, nr) = (V::as_reals_mut(w), V::as_reals(v), V::as_reals(next));
-    let s: [[f64; 4]; 4] = match V::REAL_DIM {
-        1 => widen(fused::<1>(wr, vr, narrow(rows), nr)),
-        2 => widen(fused::<2>(wr, vr, narrow(rows), nr)),
-        _ => {
+fn update_then_inner<V: Scalar<Real = f64>>(w: &mut [V], v: &[V], c: V, next: Option<&[V]>) -> V {
+    match next {
+        Some(next) => vector::axpy_then_inner(w, v, c, next),
+        None => {
             vector::axpy(w, v, c);
-            return inner(next, w);
-        }
-    };
-    vector::combine_outer_products(&s)
-}
-
-fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
-    let mut out = [[0.0; R]; R];
-    for (o, r) in out.iter_mut().zip(&s) {
-        o.copy_from_slice(&r[..R]);
-    }
-    out
-}
-
-fn fused<const R: usize>(
-    w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { fused_avx2_fma::<R>(w, v, rows, next) };
-    }
-    fused_kernel::<R, false>(w, v, rows, next)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn fused_avx2_fma<const R: usize>(
-    w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] {
-    fused_kernel::<R, true>(w, v, rows, next)
-}
-
-#[inline(always)]
-fn mul_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FUSED { a.mul_add(b, c) } else { a * b + c }
-}
-
-/// `w[R l + λ] += Σ_κ v[R l + κ] rows[κ][λ]`, then `S_κλ = Σₗ next[R l + κ] w[R l + λ]`
-/// (`R` divides 8; lengths equal).
-#[inline(always)]
-fn fused_kernel<const R: usize, const FUSED: bool>(
-    w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] {
-    const LANES: usize = 8;
-    let len = w.len();
-    let (v, next) = (&v[..len], &next[..len]);
-    // Row κ of the update spread over the lanes: mult[κ][p] = rows[κ][p mod R].
-    let mut mult = [[0.0f64; LANES]; R];
-    for (kappa, m) in mult.iter_mut().enumerate() {
-        for (p, x) in m.iter_mut().enumerate() {
-            *x = rows[kappa][p % R];
+            V::zero()
         }
     }
-    let mut acc = [[0.0f64; LANES]; R];
-    let mut cw = w.chunks_exact_mut(LANES);
-    let mut cv = v.chunks_exact(LANES);
-    let mut cn = next.chunks_exact(LANES);
-    for ((w8, v8), n8) in (&mut cw).zip(&mut cv).zip(&mut cn) {
-        let w8: &mut [f64; LANES] = w8.try_into().expect("chunk of LANES");
-        let v8: &[f64; LANES] = v8.try_into().expect("chunk of LANES");
-        let n8: &[f64; LANES] = n8.try_into().expect("chunk of LANES");
-        for (kappa, m) in mult.iter().enumerate() {
-            for (p, x) in w8.iter_mut().enumerate() {
-                *x = mul_add::<FUSED>(v8[(p / R) * R + kappa], m[p], *x);
-            }
-        }
-        for (lambda, row) in acc.iter_mut().enumerate() {
-            for (p, s) in row.iter_mut().enumerate() {
-                *s = mul_add::<FUSED>(n8[p], w8[(p / R) * R + lambda], *s);
-            }
-        }
-    }
-    let mut s = [[0.0f64; R]; R];
-    for (lambda, row) in acc.iter().enumerate() {
-        for (p, &x) in row.iter().enumerate() {
-            s[p % R][lambda] += x;
-        }
-    }
-    let (rw, rv, rn) = (cw.into_remainder(), cv.remainder(), cn.remainder());
-    for ((ew, ev), en) in rw
-        .chunks_exact_mut(R)
-        .zip(rv.chunks_exact(R))
-        .zip(rn.chunks_exact(R))
-    {
-        for (lambda, x) in ew.iter_mut().enumerate() {
-            for (kappa, row) in rows.iter().enumerate() {
-                *x += ev[kappa] * row[lambda];
-            }
-        }
-        for (kappa, row) in s.iter_mut().enumerate() {
-            for (lambda, x) in row.iter_mut().enumerate() {
-                *x += en[kappa] * ew[lambda];
-            }
-        }
-    }
-    s
-}
-
-fn widen<const R: usize>(s: [[f64; R]; R]) -> [[f64; 4]; 4] {
-    let mut out = [[0.0; 4]; 4];
-    for (o, r) in out.iter_mut().zip(&s) {
-        o[..R].copy_from_slice(r);
-    }
-    out
-}
-
-/// `S_κλ = Σₗ a[R l + κ] b[R l + λ]` (`R` divides 8).
-fn outer_products<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { outer_products_avx2_fma::<R>(a, b) };
-    }
-    outer_products_kernel::<R, false>(a, b)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn outer_products_avx2_fma<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    outer_products_kernel::<R, true>(a, b)
-}
-
-#[inline(always)]
-fn outer_products_kernel<const R: usize, const FUSED: bool>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    const LANES: usize = 8;
-    let len = a.len().min(b.len());
-    let (a, b) = (&a[..len], &b[..len]);
-    // acc[λ][p] = Σ over chunks of a[c + p] b[c + R ⌊p/R⌋ + λ].
-    let mut acc = [[0.0f64; LANES]; R];
-    let mut chunks_a = a.chunks_exact(LANES);
-    let mut chunks_b = b.chunks_exact(LANES);
-    for (ca, cb) in (&mut chunks_a).zip(&mut chunks_b) {
-        let ca: &[f64; LANES] = ca.try_into().expect("chunk of LANES");
-        let cb: &[f64; LANES] = cb.try_into().expect("chunk of LANES");
-        for (lambda, row) in acc.iter_mut().enumerate() {
-            for (p, s) in row.iter_mut().enumerate() {
-                let y = cb[(p / R) * R + lambda];
-                *s = if FUSED {
-                    ca[p].mul_add(y, *s)
-                } else {
-                    ca[p] * y + *s
-                };
-            }
-        }
-    }
-    let mut s = [[0.0f64; R]; R];
-    for (lambda, row) in acc.iter().enumerate() {
-        for (p, &x) in row.iter().enumerate() {
-            s[p % R][lambda] += x;
-        }
-    }
-    let (ra, rb) = (chunks_a.remainder(), chunks_b.remainder());
-    for (ea, eb) in ra.chunks_exact(R).zip(rb.chunks_exact(R)) {
-        for (kappa, row) in s.iter_mut().enumerate() {
-            for (lambda, x) in row.iter_mut().enumerate() {
-                *x += ea[kappa] * eb[lambda];
-            }
-        }
-    }
-    s
 }
 
 /// Appends to `basis` the normalised component of `v` orthogonal to all its columns, if that
@@ -469,7 +271,7 @@ mod tests {
     use super::*;
     use qscalar::{Complex, Quat};
 
-    /// The fused kernels agree with the plain `qsparse` ones, remainders included.
+    /// The kernels of a pass agree with the plain `qsparse` ones, remainders included.
     fn check<V: Scalar<Real = f64>>() {
         let mut rng = qscalar::random::SplitMix64::new(7);
         for n in [0usize, 1, 2, 3, 5, 8, 13, 64, 101] {
@@ -481,7 +283,7 @@ mod tests {
             let mut c = [V::zero()];
             rng.fill_symmetric(&mut c);
             let scale = 1.0 + n as f64;
-            assert!((inner(&v, &w) - vector::inner(&v, &w)).abs() <= 1e-13 * scale);
+            assert!((vector::inner_long(&v, &w) - vector::inner(&v, &w)).abs() <= 1e-13 * scale);
             let mut expected = w.clone();
             vector::axpy(&mut expected, &v, c[0]);
             let expected_inner = vector::inner(&next, &expected);

@@ -12,9 +12,10 @@
 //! * [`hermitian_eigs`]: the same iteration on any [`HermitianOperator`];
 //! * [`dense`]: all eigenpairs of small dense Hermitian matrices and pencils.
 //!
-//! Conventions (DESIGN.md §2): vectors are a right module, `⟨x, y⟩ = Σ conj(xᵢ) yᵢ`,
-//! eigen-equations read `A x = x λ` with real `λ` (for a pencil, `K x = μ S x`), Gram–Schmidt
-//! coefficients multiply on the right. Pencil eigenvectors are `S`-orthonormal.
+//! Conventions (docs/ARCHITECTURE.md, "Conventions"): vectors are a right module,
+//! `⟨x, y⟩ = Σ conj(xᵢ) yᵢ`, eigen-equations read `A x = x λ` with real `λ` (for a pencil,
+//! `K x = μ S x`), Gram–Schmidt coefficients multiply on the right. Pencil eigenvectors are
+//! `S`-orthonormal.
 //!
 //! **Multiplicities.** A single Krylov sequence contains one direction per eigenspace. The
 //! iteration runs in *rounds*: each round is a thick-restart Lanczos run from a fresh seeded

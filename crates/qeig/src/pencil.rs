@@ -185,7 +185,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             (self.low_rank.iter())
                 .flat_map(|(u, w)| {
                     (0..T::REAL_DIM).map(move |c| {
-                        let e: T = vector::unit(c);
+                        let e: T = unit(c);
                         let ue: Vec<T> = u.iter().map(|&x| x * e).collect();
                         (ue, *w)
                     })
@@ -207,7 +207,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let mut coef = Vec::new();
         for c in &self.constraints {
             for u in 0..T::REAL_DIM {
-                let e: T = vector::unit(u);
+                let e: T = unit(u);
                 let ce: Vec<T> = c.iter().map(|&x| x * e).collect();
                 let mut y = op.constraint_direction(&backend.embed(&ce));
                 append_orthonormal(&mut basis, &mut gs, &mut y, &mut coef);
@@ -262,6 +262,14 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
 
 /// Eigenvalues and eigenvectors, in matching order.
 type Pairs<T> = (Vec<f64>, Vec<Vec<T>>);
+
+/// The unit `e_u` whose only non-zero component is component `u` (`1, i, j, k` for
+/// quaternions; `u < REAL_DIM`).
+fn unit<T: Scalar<Real = f64>>(u: usize) -> T {
+    let mut e = [T::zero()];
+    T::as_reals_mut(&mut e)[u] = 1.0;
+    e[0]
+}
 
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
 /// returns them sorted by wantedness.

@@ -1,4 +1,5 @@
-//! Real and complex matrix representations of a quaternion (math-spec §2).
+//! Real and complex matrix representations of a quaternion (docs/MATH.md, "The real-block
+//! representation").
 //!
 //! * [`left_block`]: `L(q)` with `L(q)·vec(p) = vec(q p)`. The map `q ↦ L(q)` is an algebra
 //!   homomorphism (`L(pq) = L(p)L(q)`) with `L(q̄) = L(q)ᵀ`, so a quaternion-Hermitian matrix

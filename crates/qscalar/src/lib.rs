@@ -3,10 +3,13 @@
 //! The scalar layer of dirac-spectra: the quaternion type [`Quat`], the generic [`Scalar`]
 //! trait implemented for `f32`, `f64`, `Complex<f32|f64>` and `Quat<f32|f64>`, and the real
 //! 4×4 left/right-multiplication blocks and complex 2×2 adjoint of a quaternion ([`blocks`]).
+//! With the `proptest-support` feature (off by default), `strategies` exports proptest
+//! strategies for reals, complex numbers and quaternions.
 //!
-//! Conventions (DESIGN.md §2): `q = w + x i + y j + z k` is stored `(w, x, y, z)`; points of
-//! R³ are imaginary quaternions; matrices act on vectors by left multiplication and vectors form
-//! a right module, so scalar coefficients multiply vectors on the right.
+//! Conventions (docs/ARCHITECTURE.md, "Conventions"): `q = w + x i + y j + z k` is stored
+//! `(w, x, y, z)`; points of R³ are imaginary quaternions; matrices act on vectors by left
+//! multiplication and vectors form a right module, so scalar coefficients multiply vectors on the
+//! right.
 //!
 //! ```
 //! use qscalar::{Quat, Scalar};

@@ -14,9 +14,10 @@ use num_traits::{Float, One, Zero};
 
 /// A quaternion `w + x i + y j + z k` over the real type `T`.
 ///
-/// The layout is `#[repr(C)]` with the components in the order `w, x, y, z`, so a slice of
-/// `n` quaternions is a slice of `4n` reals in the vertex-interleaved layout of the real-block
-/// embedding (math-spec §2). [`crate::Scalar::as_reals`] performs that reinterpretation.
+/// The layout is `#[repr(C)]` with the components in the order `w, x, y, z`, so a slice of `n`
+/// quaternions is a slice of `4n` reals in the vertex-interleaved layout of the real-block
+/// embedding (docs/MATH.md, "The real-block representation"). [`crate::Scalar::as_reals`] performs
+/// that reinterpretation.
 #[repr(C)]
 #[derive(Copy, Clone, Default, PartialEq)]
 pub struct Quat<T> {

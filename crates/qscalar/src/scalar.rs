@@ -3,8 +3,9 @@
 //!
 //! Algorithms written over [`Scalar`] must keep operand order: `a * b` and `b * a` differ for
 //! quaternions ([`Scalar::IS_COMMUTATIVE`] is `false`). The conventions of the workspace
-//! (DESIGN.md §2) are: matrices act by left multiplication, vectors form a right module, the
-//! inner product is `⟨x, y⟩ = Σ conj(xᵢ) yᵢ`, and Gram–Schmidt coefficients multiply on the right.
+//! (docs/ARCHITECTURE.md, "Conventions") are: matrices act by left multiplication, vectors form a
+//! right module, the inner product is `⟨x, y⟩ = Σ conj(xᵢ) yᵢ`, and Gram–Schmidt coefficients
+//! multiply on the right.
 
 use core::fmt::{Debug, Display, LowerExp};
 use core::iter::Sum;
@@ -76,8 +77,9 @@ pub trait Scalar:
     /// Whether every component is finite.
     fn is_finite(self) -> bool;
     /// Writes the real left-multiplication block (`REAL_DIM × REAL_DIM`, row-major) into
-    /// `out[..REAL_DIM²]`: the matrix of `v ↦ self · v` on the components of `v`
-    /// (math-spec §2 `L(q)` for quaternions, `[[a, −b], [b, a]]` for `a + bi`).
+    /// `out[..REAL_DIM²]`: the matrix of `v ↦ self · v` on the components of `v` (`L(q)` of
+    /// docs/MATH.md, "The real-block representation", for quaternions, `[[a, −b], [b, a]]` for
+    /// `a + bi`).
     fn real_block(self, out: &mut [Self::Real]);
     /// Writes the complex-adjoint block (`COMPLEX_DIM × COMPLEX_DIM`, row-major) into `out`:
     /// `χ(z₁ + z₂ j) = [[z₁, −z₂], [z̄₂, z̄₁]]` for quaternions, the number itself otherwise.
@@ -89,7 +91,7 @@ pub trait Scalar:
     fn from_complex_column(c: &[Complex<Self::Real>]) -> Self;
 
     /// Reinterprets `n` scalars as `n · REAL_DIM` reals (components interleaved per entry, the
-    /// real-block vector layout of math-spec §2). Zero-copy.
+    /// real-block vector layout of docs/MATH.md, "The real-block representation"). Zero-copy.
     fn as_reals(s: &[Self]) -> &[Self::Real] {
         // SAFETY: the trait is sealed; every implementor is `#[repr(C)]` (f32/f64 trivially,
         // `num_complex::Complex` and `Quat` by declaration) and consists of exactly `REAL_DIM`

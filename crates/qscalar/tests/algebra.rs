@@ -60,7 +60,8 @@ fn noncommutativity_witness() {
 
 #[test]
 fn imaginary_product_is_minus_dot_plus_cross() {
-    // For imaginary a, b: ab = −a·b + a×b (math-spec §1).
+    // For imaginary a, b: ab = −a·b + a×b (docs/MATH.md, "Quaternions and quaternionic
+    // vectors").
     let a = [1.0, 2.0, 3.0];
     let b = [-2.0, 0.5, 4.0];
     let p = Q::from_vector(a) * Q::from_vector(b);

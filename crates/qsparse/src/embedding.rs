@@ -1,5 +1,6 @@
 //! Embeddings of a sparse matrix over ℂ or ℍ into larger real or complex faer matrices, the
-//! baselines the native quaternion code is compared with (math-spec §2).
+//! baselines the native quaternion code is compared with (docs/MATH.md, "The real-block
+//! representation").
 //!
 //! * Real block: every entry `a` becomes its `REAL_DIM × REAL_DIM` left-multiplication block
 //!   `L(a)`, vertex-interleaved: row `R·i + c`, column `R·j + κ`. The vector map is the

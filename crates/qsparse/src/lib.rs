@@ -3,11 +3,12 @@
 //! Sparse matrices generic over [`qscalar::Scalar`] (real, complex, quaternion), with
 //! triplet assembly, CSC storage, products, the real-block and complex-adjoint embeddings into
 //! faer matrices, and a native supernodal sparse Cholesky `A = Pᵀ L Lᴴ P`.
-//! With the `proptest-support` feature (on by default), `strategies` exports proptest
+//! With the `proptest-support` feature (off by default), `strategies` exports proptest
 //! strategies for random sparse matrices, Hermitian positive-definite matrices and vectors.
 //!
-//! Conventions (DESIGN.md §2): matrices act by left multiplication, `(A x)ᵢ = Σⱼ Aᵢⱼ xⱼ`;
-//! the adjoint is the conjugate transpose, `(Aᴴ)ᵢⱼ = conj(Aⱼᵢ)`; vectors are plain slices.
+//! Conventions (docs/ARCHITECTURE.md, "Conventions"): matrices act by left multiplication,
+//! `(A x)ᵢ = Σⱼ Aᵢⱼ xⱼ`; the adjoint is the conjugate transpose, `(Aᴴ)ᵢⱼ = conj(Aⱼᵢ)`; vectors are
+//! plain slices.
 
 mod cholesky;
 mod csc;

@@ -54,7 +54,7 @@ fn inner_kernel<T: Scalar, const FUSED: bool>(x: &[T], y: &[T]) -> T {
 /// The unit `e_κ` whose only non-zero component is component `κ` (1, i, j, k for quaternions;
 /// `κ < REAL_DIM`).
 #[inline(always)]
-pub fn unit<T: Scalar>(kappa: usize) -> T {
+pub(crate) fn unit<T: Scalar>(kappa: usize) -> T {
     let mut e = [T::zero()];
     T::as_reals_mut(&mut e)[kappa] = T::Real::one();
     e[0]
@@ -86,7 +86,7 @@ unsafe fn axpy_avx2_fma<T: Scalar>(y: &mut [T], x: &[T], c: T) {
 
 /// `y[rows[i]] ← y[rows[i]] + x[i] c`: the scattered `axpy` of a sparse column times `c`
 /// (panics if a row index is outside `y`, like slice indexing).
-pub fn scatter_axpy<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
+pub(crate) fn scatter_axpy<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU supports the features the function is compiled for.
@@ -118,9 +118,10 @@ fn axpy_kernel<T: Scalar, const FUSED: bool>(y: &mut [T], x: &[T], c: T) {
 }
 
 /// Multiplication on the right by a fixed scalar `c`, precomputed as the real matrix of
-/// `x ↦ x c` (for quaternions the right block `R(c)` of math-spec §2): column `κ` holds the
-/// components of `e_κ c`, so `x c = Σ_κ x_κ (e_κ c)` is `REAL_DIM` multiply-adds of
-/// `REAL_DIM`-vectors — the same arithmetic as the Hamilton product, in a form that vectorises.
+/// `x ↦ x c` (for quaternions the right block `R(c)`, docs/MATH.md, "The real-block
+/// representation"): column `κ` holds the components of `e_κ c`, so `x c = Σ_κ x_κ (e_κ c)` is
+/// `REAL_DIM` multiply-adds of `REAL_DIM`-vectors — the same arithmetic as the Hamilton product,
+/// in a form that vectorises.
 #[derive(Debug, Clone, Copy)]
 struct RightMultiplier<T: Scalar> {
     columns: [[T::Real; 4]; 4],
@@ -156,6 +157,7 @@ pub fn scale<T: Scalar>(x: &mut [T], r: T::Real) {
     }
 }
 
+mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod quaternion;
 
@@ -198,7 +200,7 @@ fn quaternion_kernels<T: Scalar<Real = f64>>() -> bool {
 
 /// The components of `e_κ c` for `κ < REAL_DIM` (zero-padded): `x c = Σ_κ x_κ (e_κ c)`, the
 /// columns of the real matrix of `x ↦ x c` (for quaternions the right block `R(c)`).
-pub fn unit_products<T: Scalar>(c: T) -> [[T::Real; 4]; 4] {
+fn unit_products<T: Scalar>(c: T) -> [[T::Real; 4]; 4] {
     let mut columns = [[T::Real::zero(); 4]; 4];
     for (kappa, column) in columns.iter_mut().enumerate().take(T::REAL_DIM) {
         let product = [unit::<T>(kappa) * c];
@@ -209,7 +211,7 @@ pub fn unit_products<T: Scalar>(c: T) -> [[T::Real; 4]; 4] {
 
 /// `Σ_κλ S_κλ conj(e_κ) e_λ`: the inner product `⟨a, g⟩` from the real outer products
 /// `S_κλ = Σᵣ aᵣ,κ gᵣ,λ` of the components (`κ, λ < REAL_DIM`).
-pub fn combine_outer_products<T: Scalar>(s: &[[T::Real; 4]; 4]) -> T {
+fn combine_outer_products<T: Scalar>(s: &[[T::Real; 4]; 4]) -> T {
     let mut result = T::zero();
     for (kappa, row) in s.iter().enumerate().take(T::REAL_DIM) {
         let mut s_kappa = [T::zero()];
@@ -272,6 +274,10 @@ pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
 /// `w ← w + v c`, then `⟨next, w⟩`, in one sweep (the step of a modified Gram–Schmidt pass:
 /// the update by one basis vector fused with the coefficient of the next).
 ///
+/// Quaternions (with AVX2 and FMA) go through one register per entry; reals and complex
+/// numbers through the eight independent lanes of [`inner_long`], whose rounding the
+/// coefficient then shares.
+///
 /// # Panics
 /// If `v` or `next` is not as long as `w`.
 pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: &[T]) -> T {
@@ -293,6 +299,31 @@ pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: 
         };
         return combine_outer_products(&s);
     }
-    axpy(w, v, c);
-    inner(next, w)
+    let rows = unit_products(c);
+    let (wr, vr, nr) = (T::as_reals_mut(w), T::as_reals(v), T::as_reals(next));
+    let s = match T::REAL_DIM {
+        1 => lanes::widen(lanes::fused::<1>(wr, vr, lanes::narrow(rows), nr)),
+        2 => lanes::widen(lanes::fused::<2>(wr, vr, lanes::narrow(rows), nr)),
+        _ => {
+            axpy(w, v, c);
+            return inner(next, w);
+        }
+    };
+    combine_outer_products(&s)
+}
+
+/// `⟨x, y⟩` for long vectors, such as the Gram–Schmidt passes over a Krylov basis: the real
+/// outer products `S_κλ` are accumulated over `8 REAL_DIM` independent lanes, so that the loop
+/// is bound by memory, not by the latency of a single accumulation chain (which limits
+/// [`inner`] over reals and complex numbers). The same value as [`inner`] up to rounding.
+/// Slices of unequal length are compared over the shorter one.
+pub fn inner_long<T: Scalar<Real = f64>>(x: &[T], y: &[T]) -> T {
+    let (a, b) = (T::as_reals(x), T::as_reals(y));
+    let s = match T::REAL_DIM {
+        1 => lanes::widen(lanes::outer_products::<1>(a, b)),
+        2 => lanes::widen(lanes::outer_products::<2>(a, b)),
+        4 => lanes::widen(lanes::outer_products::<4>(a, b)),
+        _ => return x.iter().zip(y).map(|(&p, &q)| p.conj() * q).sum(),
+    };
+    combine_outer_products(&s)
 }

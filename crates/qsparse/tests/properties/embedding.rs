@@ -1,6 +1,6 @@
 //! The real-block and complex-adjoint embeddings commute with the SpMV and with the adjoint
-//! (math-spec §2): `block(A) · reals(x) = reals(A x)`, `block(Aᴴ) = block(A)ᵀ`,
-//! `χ(A) · χ(x) = χ(A x)`, `χ(Aᴴ) = χ(A)ᴴ`.
+//! (docs/MATH.md, "The real-block representation"): `block(A) · reals(x) = reals(A x)`,
+//! `block(Aᴴ) = block(A)ᵀ`, `χ(A) · χ(x) = χ(A x)`, `χ(Aᴴ) = χ(A)ᴴ`.
 
 use faer::ColRef;
 use num_complex::Complex;

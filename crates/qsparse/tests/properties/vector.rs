@@ -1,12 +1,12 @@
-//! The vector kernels (plain, two-column and fused, with their runtime-dispatched quaternion
-//! paths) against entry-by-entry scalar arithmetic: `g + a x + b y`, `Σ conj(aᵣ) gᵣ`.
+//! The vector kernels (plain, long, two-column and fused, with their runtime-dispatched
+//! quaternion paths) against entry-by-entry scalar arithmetic: `g + a x + b y`, `Σ conj(aᵣ) gᵣ`.
 
 use num_complex::Complex;
 use proptest::prelude::*;
 use qscalar::Quat;
 use qscalar::strategies::ScalarStrategy;
 use qsparse::strategies::vector;
-use qsparse::vector::{axpy, axpy_then_inner, axpy_two, inner, inner_two};
+use qsparse::vector::{axpy, axpy_then_inner, axpy_two, inner, inner_long, inner_two};
 
 const TOL: f64 = 1e-12;
 
@@ -61,6 +61,7 @@ fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
     prop_assert!(close(ia, naive_inner(&a, &g), scale));
     prop_assert!(close(ib, naive_inner(&b, &g), scale));
     prop_assert!(close(inner(&a, &g), naive_inner(&a, &g), scale));
+    prop_assert!(close(inner_long(&a, &g), naive_inner(&a, &g), scale));
 
     let mut fused = g.clone();
     let coefficient = axpy_then_inner(&mut fused, &a, x, &next);

@@ -1,0 +1,175 @@
+//! Kernels over the real component layout of `f64`, `Complex<f64>` and `Quat<f64>` vectors
+//! (`R = REAL_DIM` reals per entry), spread over eight independent lanes so that a long sweep
+//! is bound by memory rather than by the latency of one accumulation chain: the inner product
+//! of [`super::inner_long`] and, for `R ≤ 2`, the fused update of [`super::axpy_then_inner`].
+//! Outer products come back as `S_κλ`, combined by the caller with
+//! [`super::combine_outer_products`].
+
+/// The leading `R × R` block of a `4 × 4` array.
+pub(super) fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
+    let mut out = [[0.0; R]; R];
+    for (o, r) in out.iter_mut().zip(&s) {
+        o.copy_from_slice(&r[..R]);
+    }
+    out
+}
+
+/// [`fused_kernel`], with FMA where the CPU has it.
+pub(super) fn fused<const R: usize>(
+    w: &mut [f64],
+    v: &[f64],
+    rows: [[f64; R]; R],
+    next: &[f64],
+) -> [[f64; R]; R] {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { fused_avx2_fma::<R>(w, v, rows, next) };
+    }
+    fused_kernel::<R, false>(w, v, rows, next)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn fused_avx2_fma<const R: usize>(
+    w: &mut [f64],
+    v: &[f64],
+    rows: [[f64; R]; R],
+    next: &[f64],
+) -> [[f64; R]; R] {
+    fused_kernel::<R, true>(w, v, rows, next)
+}
+
+#[inline(always)]
+fn mul_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FUSED { a.mul_add(b, c) } else { a * b + c }
+}
+
+/// `w[R l + λ] += Σ_κ v[R l + κ] rows[κ][λ]`, then `S_κλ = Σₗ next[R l + κ] w[R l + λ]`
+/// (`R` divides 8; lengths equal).
+#[inline(always)]
+fn fused_kernel<const R: usize, const FUSED: bool>(
+    w: &mut [f64],
+    v: &[f64],
+    rows: [[f64; R]; R],
+    next: &[f64],
+) -> [[f64; R]; R] {
+    const LANES: usize = 8;
+    let len = w.len();
+    let (v, next) = (&v[..len], &next[..len]);
+    // Row κ of the update spread over the lanes: mult[κ][p] = rows[κ][p mod R].
+    let mut mult = [[0.0f64; LANES]; R];
+    for (kappa, m) in mult.iter_mut().enumerate() {
+        for (p, x) in m.iter_mut().enumerate() {
+            *x = rows[kappa][p % R];
+        }
+    }
+    let mut acc = [[0.0f64; LANES]; R];
+    let mut cw = w.chunks_exact_mut(LANES);
+    let mut cv = v.chunks_exact(LANES);
+    let mut cn = next.chunks_exact(LANES);
+    for ((w8, v8), n8) in (&mut cw).zip(&mut cv).zip(&mut cn) {
+        let w8: &mut [f64; LANES] = w8.try_into().expect("chunk of LANES");
+        let v8: &[f64; LANES] = v8.try_into().expect("chunk of LANES");
+        let n8: &[f64; LANES] = n8.try_into().expect("chunk of LANES");
+        for (kappa, m) in mult.iter().enumerate() {
+            for (p, x) in w8.iter_mut().enumerate() {
+                *x = mul_add::<FUSED>(v8[(p / R) * R + kappa], m[p], *x);
+            }
+        }
+        for (lambda, row) in acc.iter_mut().enumerate() {
+            for (p, s) in row.iter_mut().enumerate() {
+                *s = mul_add::<FUSED>(n8[p], w8[(p / R) * R + lambda], *s);
+            }
+        }
+    }
+    let mut s = [[0.0f64; R]; R];
+    for (lambda, row) in acc.iter().enumerate() {
+        for (p, &x) in row.iter().enumerate() {
+            s[p % R][lambda] += x;
+        }
+    }
+    let (rw, rv, rn) = (cw.into_remainder(), cv.remainder(), cn.remainder());
+    for ((ew, ev), en) in rw
+        .chunks_exact_mut(R)
+        .zip(rv.chunks_exact(R))
+        .zip(rn.chunks_exact(R))
+    {
+        for (lambda, x) in ew.iter_mut().enumerate() {
+            for (kappa, row) in rows.iter().enumerate() {
+                *x += ev[kappa] * row[lambda];
+            }
+        }
+        for (kappa, row) in s.iter_mut().enumerate() {
+            for (lambda, x) in row.iter_mut().enumerate() {
+                *x += en[kappa] * ew[lambda];
+            }
+        }
+    }
+    s
+}
+
+/// An `R × R` array in the leading block of a zero `4 × 4` one.
+pub(super) fn widen<const R: usize>(s: [[f64; R]; R]) -> [[f64; 4]; 4] {
+    let mut out = [[0.0; 4]; 4];
+    for (o, r) in out.iter_mut().zip(&s) {
+        o[..R].copy_from_slice(r);
+    }
+    out
+}
+
+/// `S_κλ = Σₗ a[R l + κ] b[R l + λ]` (`R` divides 8).
+pub(super) fn outer_products<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU supports the features the function is compiled for.
+        return unsafe { outer_products_avx2_fma::<R>(a, b) };
+    }
+    outer_products_kernel::<R, false>(a, b)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn outer_products_avx2_fma<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
+    outer_products_kernel::<R, true>(a, b)
+}
+
+#[inline(always)]
+fn outer_products_kernel<const R: usize, const FUSED: bool>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
+    const LANES: usize = 8;
+    let len = a.len().min(b.len());
+    let (a, b) = (&a[..len], &b[..len]);
+    // acc[λ][p] = Σ over chunks of a[c + p] b[c + R ⌊p/R⌋ + λ].
+    let mut acc = [[0.0f64; LANES]; R];
+    let mut chunks_a = a.chunks_exact(LANES);
+    let mut chunks_b = b.chunks_exact(LANES);
+    for (ca, cb) in (&mut chunks_a).zip(&mut chunks_b) {
+        let ca: &[f64; LANES] = ca.try_into().expect("chunk of LANES");
+        let cb: &[f64; LANES] = cb.try_into().expect("chunk of LANES");
+        for (lambda, row) in acc.iter_mut().enumerate() {
+            for (p, s) in row.iter_mut().enumerate() {
+                let y = cb[(p / R) * R + lambda];
+                *s = if FUSED {
+                    ca[p].mul_add(y, *s)
+                } else {
+                    ca[p] * y + *s
+                };
+            }
+        }
+    }
+    let mut s = [[0.0f64; R]; R];
+    for (lambda, row) in acc.iter().enumerate() {
+        for (p, &x) in row.iter().enumerate() {
+            s[p % R][lambda] += x;
+        }
+    }
+    let (ra, rb) = (chunks_a.remainder(), chunks_b.remainder());
+    for (ea, eb) in ra.chunks_exact(R).zip(rb.chunks_exact(R)) {
+        for (kappa, row) in s.iter_mut().enumerate() {
+            for (lambda, x) in row.iter_mut().enumerate() {
+                *x += ea[kappa] * eb[lambda];
+            }
+        }
+    }
+    s
+}
