@@ -1,9 +1,35 @@
 //! # dirac
 //!
 //! Triangle meshes and the operators of "A Dirac Operator for Extrinsic Shape Analysis"
-//! (Liu, Jacobson, Crane, SGP 2017). This first part holds validated meshes, the icosphere
-//! generator, and the real operators every spectrum needs: face areas, barycentric vertex
-//! masses and the positive-semidefinite cotangent Laplacian.
+//! (Liu, Jacobson, Crane, SGP 2017), and their spectra: the relative Dirac operator `D_N`, the
+//! extrinsic Dirac operator `D_f`, the cotangent Laplacian, the family `L(τ)` between them, the
+//! squared operator, the modified Dirichlet energy and the infinite potential well, solved over
+//! the quaternions by `qeig`; canonical eigenvectors and the descriptors built on them.
+//!
+//! One call gives a spectrum:
+//!
+//! ```
+//! use dirac::{Operator, SpectrumOptions};
+//!
+//! let mesh = dirac::default_mesh(); // Keenan Crane's spot, 2930 vertices
+//! let spectrum = dirac::spectrum(&mesh, &SpectrumOptions::new(Operator::RelativeDirac, 10))?;
+//! // Signed eigenvalues sorted by |λ|; one quaternion per vertex in each eigenvector.
+//! assert_eq!(spectrum.eigenvalues.len(), 10);
+//! assert_eq!(spectrum.eigenvectors[0].len(), mesh.vertex_count());
+//! # Ok::<(), dirac::SpectrumError>(())
+//! ```
+//!
+//! | module | what it holds |
+//! |---|---|
+//! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
+//! | [`geometry`], [`curvature`], [`operators`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature |
+//! | [`spectrum`] | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
+//! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
+//! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
+//! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
+//!
+//! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
+//! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
 
 pub mod curvature;
 pub mod descriptors;
@@ -20,4 +46,8 @@ pub mod well;
 
 pub use io::default_mesh;
 pub use mesh::{Edge, MeshError, TriMesh};
+pub use spectrum::{
+    Eigenproblem, Normalization, Operator, OperatorNameError, SolverBackend, Spectrum,
+    SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+};
 pub use topology::{Component, Topology};

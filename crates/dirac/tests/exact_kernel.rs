@@ -306,6 +306,19 @@ fn a_planar_mesh_is_a_vanishing_operator_not_a_crash() {
     let kernel = spectrum(&plane, &options).unwrap();
     assert_eq!(kernel.kernel.dimension, n);
     assert_eq!(kernel.eigenvalues, vec![0.0; 4]);
+    // A unit square's Gauss map is exactly constant, so `P = Q = 0` to the last bit: the
+    // kernel pairs are exact, not 0/0.
+    let square = grid(6, 6, 1.0, 1.0).unwrap();
+    let exact = dirac::eigenproblem(&square, &options).unwrap();
+    assert!(
+        exact
+            .stiffness
+            .triplets()
+            .all(|(_, _, v)| v == Quat::default())
+    );
+    let kernel = spectrum(&square, &options).unwrap();
+    assert_eq!(kernel.eigenvalues, vec![0.0; 4]);
+    assert_eq!(kernel.residuals, vec![0.0; 4]);
     // The family still sees the geometry through the Laplacian.
     let family = spectrum(
         &plane,

@@ -96,7 +96,86 @@ pub enum Operator {
     ModifiedDirichlet,
 }
 
+/// Every operator, the family's at an arbitrary weight: what [`Operator::from_name`] looks
+/// names up in.
+const OPERATORS: [Operator; 7] = [
+    Operator::Laplace,
+    Operator::RelativeDirac,
+    Operator::ExtrinsicDirac,
+    Operator::Family { tau: 0.5 },
+    Operator::FamilyLiteral { tau: 0.5 },
+    Operator::Squared,
+    Operator::ModifiedDirichlet,
+];
+
+/// Why [`Operator::from_name`] failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum OperatorNameError {
+    /// No operator has this name.
+    #[error("unknown operator {name:?}; expected one of {}", Operator::names().join(", "))]
+    Unknown {
+        /// The name given.
+        name: String,
+    },
+    /// The family needs its weight `τ`.
+    #[error("operator {name:?} needs tau (the weight of D_N, in [0, 1])")]
+    MissingTau {
+        /// The operator's name.
+        name: &'static str,
+    },
+    /// Only the family has a weight `τ`.
+    #[error("operator {name:?} takes no tau (only family and family-literal do)")]
+    UnexpectedTau {
+        /// The operator's name.
+        name: &'static str,
+    },
+}
+
 impl Operator {
+    /// The names [`Operator::from_name`] accepts, in the order of the enum.
+    pub fn names() -> Vec<&'static str> {
+        OPERATORS.iter().map(|o| o.name()).collect()
+    }
+
+    /// The operator's name, as the command line and the Python package spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Operator::Laplace => "laplace",
+            Operator::RelativeDirac => "relative-dirac",
+            Operator::ExtrinsicDirac => "extrinsic-dirac",
+            Operator::Family { .. } => "family",
+            Operator::FamilyLiteral { .. } => "family-literal",
+            Operator::Squared => "squared",
+            Operator::ModifiedDirichlet => "modified-dirichlet",
+        }
+    }
+
+    /// The operator called `name` ([`Operator::name`]); `tau` is required by the family
+    /// (`family`, `family-literal`) and refused by every other operator. The range of `τ` is
+    /// checked by [`spectrum`].
+    pub fn from_name(name: &str, tau: Option<f64>) -> Result<Self, OperatorNameError> {
+        let prototype = OPERATORS
+            .into_iter()
+            .find(|o| o.name() == name)
+            .ok_or_else(|| OperatorNameError::Unknown {
+                name: name.to_string(),
+            })?;
+        match (prototype, tau) {
+            (Operator::Family { .. }, Some(tau)) => Ok(Operator::Family { tau }),
+            (Operator::FamilyLiteral { .. }, Some(tau)) => Ok(Operator::FamilyLiteral { tau }),
+            (Operator::Family { .. } | Operator::FamilyLiteral { .. }, None) => {
+                Err(OperatorNameError::MissingTau {
+                    name: prototype.name(),
+                })
+            }
+            (_, Some(_)) => Err(OperatorNameError::UnexpectedTau {
+                name: prototype.name(),
+            }),
+            (operator, None) => Ok(operator),
+        }
+    }
+
     /// Whether the kernel's eigenvalue `0` is listed unless asked otherwise: yes for the
     /// operators whose kernel is at most the constants and whose zero eigenvalue is an
     /// ordinary one (Laplace, modified Dirichlet, the family for `τ < 1`), no for `D_N`, `D_f`
@@ -243,6 +322,12 @@ pub enum SpectrumError {
     /// The eigensolver failed.
     #[error("eigensolver: {0}")]
     Eigen(String),
+    /// The eigensolver's tolerance is not in `(0, 1)`.
+    #[error("tolerance {0} must lie strictly between 0 and 1")]
+    InvalidTolerance(f64),
+    /// No restart allowed: the eigensolver needs at least one.
+    #[error("max_restarts must be at least 1")]
+    InvalidMaxRestarts,
     /// The flat tolerance is negative or not a number.
     #[error("flat tolerance {0} must be a finite number ≥ 0")]
     InvalidFlatTolerance(f64),
@@ -326,6 +411,49 @@ fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, toleran
     )
 }
 
+/// The eigenproblem `P x = λ Q x` of an operator, with the matrices as assembled (flat faces
+/// not zeroed): what [`spectrum`] solves and measures its residuals against, for checking a
+/// result or feeding another solver. Quaternionic matrices of size `n × n`;
+/// [`SparseMatrix::to_real_block`] and [`SparseMatrix::to_complex_adjoint`] give the `4n × 4n`
+/// real and `2n × 2n` complex forms.
+#[derive(Debug, Clone)]
+pub struct Eigenproblem {
+    /// `P`: `L` (Laplace), `L + M diag(U)` (modified Dirichlet), `A = D* M_F D` (relative and
+    /// extrinsic Dirac, squared), `τA + (1−τ)L` (family), `(1−τ)L + τG` (literal family).
+    pub stiffness: SparseMatrix<Quat<f64>>,
+    /// `Q`: `M` (Laplace, modified Dirichlet, squared, literal family), `G = sym(Bᵀ M_F D)`
+    /// (relative and extrinsic Dirac), `τG + (1−τ)M` (family).
+    pub coupling: SparseMatrix<Quat<f64>>,
+    /// The barycentric vertex masses `Ā_p`, the diagonal of `M`.
+    pub masses: Vec<f64>,
+    /// Factor applied to the positions ([`Normalization`]; 1 without normalisation).
+    pub scale: f64,
+}
+
+/// The eigenproblem of `options.operator` on `mesh`, after `options.normalization` and with
+/// `options.well`; `options.k`, the backend and the solver settings are not used.
+pub fn eigenproblem(
+    mesh: &TriMesh,
+    options: &SpectrumOptions,
+) -> Result<Eigenproblem, SpectrumError> {
+    validate_operator(options)?;
+    let (scale, scaled) = normalized(mesh, options.normalization)?;
+    let mesh = scaled.as_ref().unwrap_or(mesh);
+    let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
+    let spec = PencilSpec::for_operator(
+        options.operator,
+        mesh,
+        potential.as_deref(),
+        options.flat_tolerance,
+    )?;
+    Ok(Eigenproblem {
+        stiffness: spec.operator.stiffness,
+        coupling: spec.operator.coupling,
+        masses: barycentric_masses(mesh),
+        scale,
+    })
+}
+
 /// The spectrum of `options.operator` on `mesh`; see the module documentation for the pencils.
 pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, SpectrumError> {
     spectrum_with_progress(mesh, options, None)
@@ -403,6 +531,17 @@ fn validate(mesh: &TriMesh, options: &SpectrumOptions) -> Result<(), SpectrumErr
             vertices: n,
         });
     }
+    if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
+        return Err(SpectrumError::InvalidTolerance(options.tolerance));
+    }
+    if options.max_restarts == 0 {
+        return Err(SpectrumError::InvalidMaxRestarts);
+    }
+    validate_operator(options)
+}
+
+/// `τ` in range, flat tolerance valid.
+fn validate_operator(options: &SpectrumOptions) -> Result<(), SpectrumError> {
     if let Operator::Family { tau } | Operator::FamilyLiteral { tau } = options.operator
         && !(0.0..=1.0).contains(&tau)
     {
@@ -576,18 +715,27 @@ impl Residual {
         };
         let difference = dual(&pencil_residual_vector(m, lambda, x));
         let x_norm = mass_norm(masses, x);
+        // An exact pair (`P x = λ Q x` to the last bit, as for the kernel of an operator that
+        // vanishes identically, `P = Q = 0`) has no error, whatever the norms.
+        let ratio = |scale: f64| {
+            if difference == 0.0 {
+                0.0
+            } else {
+                difference / scale
+            }
+        };
         let relative = if lambda == 0.0 {
-            difference / (norms.0 * x_norm)
+            ratio(norms.0 * x_norm)
         } else {
             let mut qx = vec![Quat::default(); x.len()];
             m.coupling
                 .mul_vec(x, &mut qx)
                 .expect("square operator of the vector's size");
-            difference / (lambda.abs() * dual(&qx))
+            ratio(lambda.abs() * dual(&qx))
         };
         Self {
             relative,
-            backward_error: difference / ((norms.0 + lambda.abs() * norms.1) * x_norm),
+            backward_error: ratio((norms.0 + lambda.abs() * norms.1) * x_norm),
         }
     }
 }
