@@ -14,7 +14,7 @@
 //!   they are invariant under a change of basis inside an eigenspace only when every member of
 //!   that eigenspace is included.
 //! - An eigenvalue is *zero* when `|λ| ≤ 10⁻¹⁰ · max_i |λ_i|` ([`ZERO_TOLERANCE`]); the spectra
-//!   of [`crate::spectrum`] return the constant mode as an exact `0`. Zero modes enter the heat
+//!   of [`crate::spectrum`](mod@crate::spectrum) return the constant mode as an exact `0`. Zero modes enter the heat
 //!   and Dirac kernel signatures (with weight `e⁰ = 1`, as in Sun–Ovsjanikov–Guibas), carry no
 //!   energy in the wave kernel signature (`log 0 = −∞`) and are skipped by the segmentation
 //!   descriptor (`1/√0`); the default samplings use the nonzero `|λ|` only.

@@ -23,7 +23,7 @@
 //! |---|---|
 //! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
 //! | [`geometry`], [`curvature`], [`operators`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature |
-//! | [`spectrum`] | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
+//! | [`spectrum`](mod@spectrum) | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |

@@ -58,7 +58,10 @@ fn the_eigenproblem_is_the_one_the_spectrum_satisfies() {
             .sum::<f64>()
             .sqrt();
         let scale: f64 = qx.iter().map(|q| q.norm_sqr()).sum::<f64>().sqrt() * lambda.abs();
-        assert!(residual <= 1e-8 * scale, "λ = {lambda}: {residual:e} / {scale:e}");
+        assert!(
+            residual <= 1e-8 * scale,
+            "λ = {lambda}: {residual:e} / {scale:e}"
+        );
     }
     // Masses are those of the scaled mesh: they sum to its area, 1.
     assert!((problem.masses.iter().sum::<f64>() - 1.0).abs() < 1e-12);

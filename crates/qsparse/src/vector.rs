@@ -67,7 +67,7 @@ pub fn norm<T: Scalar>(x: &[T]) -> T::Real {
 
 /// `y ← y + x c` (coefficient on the right, as in a Gram–Schmidt update `w −= v ⟨v, w⟩`).
 ///
-/// Computed through [`RightMultiplier`], which the compiler turns into broadcast multiply-adds
+/// Computed through `RightMultiplier`, which the compiler turns into broadcast multiply-adds
 /// over the components instead of a scalar quaternion product per entry.
 pub fn axpy<T: Scalar>(y: &mut [T], x: &[T], c: T) {
     #[cfg(target_arch = "x86_64")]

@@ -45,6 +45,8 @@ mod kernel;
 mod pencil;
 mod solve;
 
+use std::borrow::Cow;
+
 use qeig::{Progress, Statistics};
 use qscalar::Quat;
 use qsparse::{CholeskyError, SparseMatrix};
@@ -437,21 +439,40 @@ pub fn eigenproblem(
     options: &SpectrumOptions,
 ) -> Result<Eigenproblem, SpectrumError> {
     validate_operator(options)?;
-    let (scale, scaled) = normalized(mesh, options.normalization)?;
-    let mesh = scaled.as_ref().unwrap_or(mesh);
-    let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
-    let spec = PencilSpec::for_operator(
-        options.operator,
-        mesh,
-        potential.as_deref(),
-        options.flat_tolerance,
-    )?;
+    let Assembled { scale, mesh, spec } = assemble(mesh, options)?;
     Ok(Eigenproblem {
         stiffness: spec.operator.stiffness,
         coupling: spec.operator.coupling,
-        masses: barycentric_masses(mesh),
+        masses: barycentric_masses(&mesh),
         scale,
     })
+}
+
+/// The mesh as solved and the operator's pencil on it.
+struct Assembled<'a> {
+    /// Factor applied to the positions.
+    scale: f64,
+    /// The mesh after normalisation.
+    mesh: Cow<'a, TriMesh>,
+    /// The pencil, with the well when there is one.
+    spec: PencilSpec,
+}
+
+/// Normalises `mesh` and assembles the pencil of `options.operator` on it.
+fn assemble<'a>(
+    mesh: &'a TriMesh,
+    options: &SpectrumOptions,
+) -> Result<Assembled<'a>, SpectrumError> {
+    let (scale, scaled) = normalized(mesh, options.normalization)?;
+    let mesh = scaled.map_or(Cow::Borrowed(mesh), Cow::Owned);
+    let potential = options.well.map(|w| w.potential(&mesh)).transpose()?;
+    let spec = PencilSpec::for_operator(
+        options.operator,
+        &mesh,
+        potential.as_deref(),
+        options.flat_tolerance,
+    )?;
+    Ok(Assembled { scale, mesh, spec })
 }
 
 /// The spectrum of `options.operator` on `mesh`; see the module documentation for the pencils.
@@ -466,16 +487,9 @@ pub fn spectrum_with_progress(
     mut progress: Option<&mut dyn FnMut(&Progress)>,
 ) -> Result<Spectrum, SpectrumError> {
     validate(mesh, options)?;
-    let (scale, scaled) = normalized(mesh, options.normalization)?;
-    let mesh = scaled.as_ref().unwrap_or(mesh);
+    let Assembled { scale, mesh, spec } = assemble(mesh, options)?;
+    let mesh = mesh.as_ref();
     let masses = barycentric_masses(mesh);
-    let potential = options.well.map(|w| w.potential(mesh)).transpose()?;
-    let spec = PencilSpec::for_operator(
-        options.operator,
-        mesh,
-        potential.as_deref(),
-        options.flat_tolerance,
-    )?;
     let kernel = match spec.form {
         Form::Literal { .. } => ExactKernel::none(),
         _ => ExactKernel::find(

@@ -1,0 +1,42 @@
+# Type stubs of the compiled module (crates/dirac-py/src/lib.rs). Users call the wrappers in
+# dirac_spectra; these take C-contiguous float64 (n, 3) positions and int64 (m, 3) faces.
+from typing import Any
+
+import numpy as np
+
+# The options object of a solve, read by attribute.
+from ._spectrum import _Request
+
+class NativeError(Exception):
+    """args = (kind, message, details); translated by dirac_spectra.errors."""
+
+DEFAULT_FLAT_TOLERANCE: float
+OPERATORS: list[str]
+
+def read_mesh(path: str) -> tuple[np.ndarray, np.ndarray]: ...
+def write_mesh(path: str, vertices: np.ndarray, faces: np.ndarray) -> None: ...
+def default_mesh() -> tuple[np.ndarray, np.ndarray]: ...
+def spectrum(
+    vertices: np.ndarray, faces: np.ndarray, request: _Request, eigenvectors: bool
+) -> dict[str, Any]: ...
+def eigenproblem(
+    vertices: np.ndarray, faces: np.ndarray, request: _Request, form: str
+) -> dict[str, Any]: ...
+def laplacian(vertices: np.ndarray, faces: np.ndarray) -> tuple[dict[str, Any], np.ndarray]: ...
+def kernel_signature(
+    kind: str,
+    eigenvalues: np.ndarray,
+    eigenvectors: np.ndarray,
+    times: np.ndarray | None,
+    count: int,
+) -> tuple[np.ndarray, np.ndarray]: ...
+def wave_kernel_signature(
+    eigenvalues: np.ndarray,
+    eigenvectors: np.ndarray,
+    energies: np.ndarray | None,
+    sigma: float | None,
+    count: int,
+) -> tuple[np.ndarray, np.ndarray, float]: ...
+def segmentation_descriptor(
+    eigenvalues: np.ndarray, eigenvectors: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]: ...

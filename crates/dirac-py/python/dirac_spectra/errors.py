@@ -1,0 +1,168 @@
+"""The exceptions of ``dirac_spectra``.
+
+Every error of the native code arrives as one of these classes; each also derives from the
+builtin exception it refines, so ``except ValueError`` catches a bad mesh as it would in numpy.
+
+=====================  ==========================  ==============================================
+class                  builtin base                raised when
+=====================  ==========================  ==============================================
+``MeshError``          ``ValueError``              the mesh is invalid: ``face`` and/or ``vertex``
+                                                   name the first bad element (empty mesh, index
+                                                   out of range, repeated index, unreferenced
+                                                   vertex, non-finite coordinate, zero-area face,
+                                                   degenerate angle, non-manifold edge or vertex,
+                                                   inconsistent orientation, vanishing normal)
+``MeshFileError``      ``MeshError``               a mesh file is malformed (the message gives the
+                                                   line) or has an unknown extension
+``OptionsError``       ``ValueError``              an argument has a value that cannot be used:
+                                                   unknown operator, backend or normalisation, k
+                                                   out of range, tau outside [0, 1], tau for an
+                                                   operator without one, bad flat tolerance, bad
+                                                   well parameters, threads not 1 or 2
+``KernelError``        ``ValueError``              the operator has fewer nonzero eigenvalues
+                                                   than asked for outside its exact kernel (or
+                                                   none at all: a planar mesh for relative Dirac)
+``SingularError``      ``ArithmeticError``         a matrix is numerically singular (``vertex``
+                                                   where the factorisation failed, if known)
+``SolverError``        ``RuntimeError``            the eigensolver failed
+``NotConvergedError``  ``SolverError``             the eigensolver stopped before all k pairs
+                                                   converged: ``partial`` is a ``Spectrum`` of the
+                                                   converged pairs, ``wanted`` the k asked for
+``DescriptorError``    ``ValueError``              a descriptor cannot be computed from the given
+                                                   eigenpairs (no nonzero eigenvalue, negative
+                                                   eigenvalue for HKS, bad times or energies)
+=====================  ==========================  ==============================================
+
+Files that cannot be opened or written raise the builtin ``OSError`` (``FileNotFoundError``
+and so on). Bad array arguments raise ``TypeError`` (wrong dtype) or ``ValueError`` (wrong
+shape) with the expected form in the message.
+"""
+
+from __future__ import annotations
+
+import errno
+import functools
+from typing import Any, Callable, TypeVar
+
+from . import _native
+
+__all__ = [
+    "DiracError",
+    "MeshError",
+    "MeshFileError",
+    "OptionsError",
+    "KernelError",
+    "SingularError",
+    "SolverError",
+    "NotConvergedError",
+    "DescriptorError",
+]
+
+
+class DiracError(Exception):
+    """Base class of every exception ``dirac_spectra`` raises for a failed computation."""
+
+
+class MeshError(DiracError, ValueError):
+    """The mesh is invalid. ``face`` and ``vertex`` name the offending element (or are None)."""
+
+    face: int | None = None
+    vertex: int | None = None
+
+
+class MeshFileError(MeshError):
+    """A mesh file is malformed or of an unknown format."""
+
+
+class OptionsError(DiracError, ValueError):
+    """An argument has a value the computation cannot use."""
+
+
+class KernelError(DiracError, ValueError):
+    """Fewer nonzero eigenvalues exist outside the operator's exact kernel than were asked for."""
+
+
+class SingularError(DiracError, ArithmeticError):
+    """A matrix is numerically singular; ``vertex`` is where it failed, if known."""
+
+    vertex: int | None = None
+
+
+class SolverError(DiracError, RuntimeError):
+    """The eigensolver failed."""
+
+
+class NotConvergedError(SolverError):
+    """The eigensolver stopped before all pairs converged.
+
+    ``partial`` is a :class:`dirac_spectra.Spectrum` holding the pairs that did converge (sorted
+    by ``|λ|``, with their residuals); ``wanted`` is the number asked for.
+    """
+
+    partial: Any = None
+    wanted: int = 0
+
+
+class DescriptorError(DiracError, ValueError):
+    """A descriptor cannot be computed from the given eigenpairs."""
+
+
+_CLASSES: dict[str, type[Exception]] = {
+    "mesh": MeshError,
+    "mesh_file": MeshFileError,
+    "options": OptionsError,
+    "kernel": KernelError,
+    "singular": SingularError,
+    "solver": SolverError,
+    "not_converged": NotConvergedError,
+    "descriptor": DescriptorError,
+}
+
+# The library's messages name the command line's options; a Python user sets keywords.
+_OPTION_SPELLING = [
+    ("--include-kernel", "include_kernel=True"),
+    ("--flat-tolerance ", "flat_tolerance="),
+    ("--operator family --tau T", 'operator="family", tau=T'),
+    ("--normalize unit-area", 'normalize="unit-area"'),
+]
+
+
+def _python_spelling(message: str) -> str:
+    for cli, python in _OPTION_SPELLING:
+        message = message.replace(cli, python)
+    return message
+
+
+def _translate(error: Exception, make_partial: Callable[[dict], Any] | None) -> Exception:
+    """The documented exception for a ``_native.NativeError(kind, message, details)``."""
+    kind, message, details = error.args
+    message = _python_spelling(message)
+    if kind == "io":
+        # OSError(errno, text) is the subclass for the number: FileNotFoundError, ...
+        return OSError(details.get("errno") or errno.EIO, message)
+    translated = _CLASSES[kind](message)
+    for name, value in details.items():
+        if name == "partial" and make_partial is not None:
+            value = make_partial(value)
+        setattr(translated, name, value)
+    return translated
+
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+def translated(make_partial: Callable[[dict], Any] | None = None) -> Callable[[F], F]:
+    """Decorator: native errors become their documented class (``make_partial`` turns the raw
+    partial result of a ``NotConvergedError`` into a ``Spectrum``)."""
+
+    def decorate(function: F) -> F:
+        @functools.wraps(function)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            try:
+                return function(*args, **kwargs)
+            except _native.NativeError as error:
+                raise _translate(error, make_partial) from None
+
+        return wrapper  # type: ignore[return-value]
+
+    return decorate

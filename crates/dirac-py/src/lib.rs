@@ -1,0 +1,424 @@
+//! `dirac_spectra._native`: the compiled half of the Python package `dirac_spectra`.
+//!
+//! Thin wrappers over the `dirac` crate: arrays in, dicts of arrays out. Validation of dtypes
+//! and the public signatures with their defaults live in the Python half
+//! (`python/dirac_spectra/`), which is what users import; errors are raised as
+//! [`error::NativeError`] and given their documented class there. Every computation runs with
+//! the GIL released, on at most the number of threads asked for.
+
+mod convert;
+mod error;
+
+use std::path::PathBuf;
+
+use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
+use dirac::geometry::{barycentric_masses, cotan_laplacian};
+use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, write_obj, write_ply};
+use dirac::spectrum::DEFAULT_FLAT_TOLERANCE;
+use dirac::well::PotentialWell;
+use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions, TriMesh};
+use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::error::{
+    Kind, NativeError, descriptor_error, operator_name_error, plain, raise, read_error,
+    spectrum_error, write_error,
+};
+
+/// `(V, F)` of the mesh file at `path` (`.obj`, `.off`, `.ply`), validated.
+#[pyfunction]
+fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, Bound<'_, PyAny>)> {
+    let mesh = py
+        .detach(|| read_mesh_file(&path))
+        .map_err(|e| read_error(py, &e))?;
+    Ok(convert::mesh_arrays(py, &mesh))
+}
+
+/// Writes the mesh `(V, F)` to `path` as OBJ or binary PLY (by the extension).
+#[pyfunction]
+fn write_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: PyReadonlyArray2<'_, f64>,
+    faces: PyReadonlyArray2<'_, i64>,
+) -> PyResult<()> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let written = match extension.as_deref() {
+        Some("obj") => py.detach(|| write_obj(&mesh, &path)),
+        Some("ply") => py.detach(|| write_ply(&mesh, &path, &PlyWriteOptions::default())),
+        _ => {
+            return Err(plain(
+                py,
+                Kind::MeshFile,
+                format!(
+                    "{}: cannot write this format (expected a .obj or .ply file)",
+                    path.display()
+                ),
+            ));
+        }
+    };
+    written.map_err(|e| write_error(py, &e))
+}
+
+/// The options of a solve, as the Python signature names them.
+#[derive(FromPyObject)]
+struct Request {
+    #[pyo3(attribute)]
+    operator: String,
+    #[pyo3(attribute)]
+    tau: Option<f64>,
+    #[pyo3(attribute)]
+    k: usize,
+    #[pyo3(attribute)]
+    normalize: Option<String>,
+    #[pyo3(attribute)]
+    well: Option<WellRequest>,
+    #[pyo3(attribute)]
+    backend: String,
+    #[pyo3(attribute)]
+    tolerance: f64,
+    #[pyo3(attribute)]
+    seed: u64,
+    #[pyo3(attribute)]
+    max_restarts: usize,
+    #[pyo3(attribute)]
+    include_kernel: Option<bool>,
+    #[pyo3(attribute)]
+    flat_tolerance: f64,
+    #[pyo3(attribute)]
+    threads: usize,
+}
+
+/// `dirac_spectra.PotentialWell`.
+#[derive(FromPyObject)]
+struct WellRequest {
+    #[pyo3(attribute)]
+    radius: f64,
+    #[pyo3(attribute)]
+    center: Option<usize>,
+    #[pyo3(attribute)]
+    steepness: f64,
+    #[pyo3(attribute)]
+    height: f64,
+}
+
+impl Request {
+    /// The library's options.
+    fn options(&self, py: Python<'_>) -> PyResult<SpectrumOptions> {
+        let operator = Operator::from_name(&self.operator, self.tau)
+            .map_err(|e| operator_name_error(py, &e))?;
+        let mut options = SpectrumOptions::new(operator, self.k);
+        options.normalization = match self.normalize.as_deref() {
+            None | Some("none") => Normalization::None,
+            Some("unit-area") => Normalization::UnitArea,
+            Some(other) => {
+                return Err(plain(
+                    py,
+                    Kind::Options,
+                    format!(
+                        "unknown normalize {other:?}; expected None, \"none\" or \"unit-area\""
+                    ),
+                ));
+            }
+        };
+        options.backend = match self.backend.as_str() {
+            "native" => SolverBackend::Native,
+            "real-block" => SolverBackend::RealBlock,
+            "complex-adjoint" => SolverBackend::ComplexAdjoint,
+            other => {
+                return Err(plain(
+                    py,
+                    Kind::Options,
+                    format!(
+                        "unknown backend {other:?}; expected \"native\", \"real-block\" or \
+                         \"complex-adjoint\""
+                    ),
+                ));
+            }
+        };
+        options.well = self.well.as_ref().map(|w| PotentialWell {
+            center: w.center,
+            radius: w.radius,
+            steepness: w.steepness,
+            height: w.height,
+        });
+        options.tolerance = self.tolerance;
+        options.seed = self.seed;
+        options.max_restarts = self.max_restarts;
+        if let Some(include) = self.include_kernel {
+            options.include_kernel = include;
+        }
+        options.flat_tolerance = self.flat_tolerance;
+        Ok(options)
+    }
+}
+
+/// Runs `work` without the GIL, on one thread (`threads = 1`: inside a one-thread pool, where
+/// the kernels never start a helper thread) or on the calling thread with one helper
+/// (`threads = 2`, the most the solver uses).
+fn run_detached<T: Send>(
+    py: Python<'_>,
+    threads: usize,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    if !(1..=2).contains(&threads) {
+        return Err(plain(
+            py,
+            Kind::Options,
+            format!("threads = {threads}: the solver uses 1 or 2 threads"),
+        ));
+    }
+    if threads == 2 {
+        return Ok(py.detach(work));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| plain(py, Kind::Solver, format!("cannot start a thread: {e}")))?;
+    Ok(py.detach(|| pool.install(work)))
+}
+
+/// The spectrum of `(V, F)` as a dict (see `dirac_spectra.Spectrum`).
+#[pyfunction]
+fn spectrum<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    request: Request,
+    eigenvectors: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let options = request.options(py)?;
+    let (result, masses) = run_detached(py, request.threads, || {
+        let result = dirac::spectrum(&mesh, &options);
+        let masses = result.as_ref().map_or_else(partial_scale, |s| s.scale);
+        (result, scaled_masses(&mesh, masses))
+    })?;
+    match result {
+        Ok(spectrum) => convert::spectrum_dict(py, &spectrum, &masses, eigenvectors),
+        Err(SpectrumError::NotConverged { wanted, partial }) => {
+            let details = PyDict::new(py);
+            details.set_item("wanted", wanted)?;
+            details.set_item(
+                "partial",
+                convert::spectrum_dict(py, &partial, &masses, eigenvectors)?,
+            )?;
+            let message = SpectrumError::NotConverged { wanted, partial };
+            Err(raise(Kind::NotConverged, message, &details))
+        }
+        Err(e) => Err(spectrum_error(py, &e)),
+    }
+}
+
+/// The scale of a partial result (1 for other errors, whose masses are not used).
+fn partial_scale(error: &SpectrumError) -> f64 {
+    match error {
+        SpectrumError::NotConverged { partial, .. } => partial.scale,
+        _ => 1.0,
+    }
+}
+
+/// The vertex masses of `mesh` scaled by `scale` (masses are areas: `scale²`).
+fn scaled_masses(mesh: &TriMesh, scale: f64) -> Vec<f64> {
+    barycentric_masses(mesh)
+        .into_iter()
+        .map(|m| m * scale * scale)
+        .collect()
+}
+
+/// The eigenproblem `P x = λ Q x` of the request's operator: a dict with `stiffness` and
+/// `coupling` (CSC parts, see [`convert::csc`]) in `form` `"real"` (`4n × 4n`) or
+/// `"complex"` (`2n × 2n`), `mass (n,)` and `scale`.
+#[pyfunction]
+fn eigenproblem<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    request: Request,
+    form: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let options = request.options(py)?;
+    let problem = run_detached(py, request.threads, || dirac::eigenproblem(&mesh, &options))?
+        .map_err(|e| spectrum_error(py, &e))?;
+    let dict = PyDict::new(py);
+    match form {
+        "real" => {
+            dict.set_item(
+                "stiffness",
+                convert::csc(py, &problem.stiffness.to_real_block())?,
+            )?;
+            dict.set_item(
+                "coupling",
+                convert::csc(py, &problem.coupling.to_real_block())?,
+            )?;
+        }
+        "complex" => {
+            let stiffness = problem.stiffness.to_complex_adjoint();
+            dict.set_item("stiffness", convert::csc(py, &stiffness)?)?;
+            let coupling = problem.coupling.to_complex_adjoint();
+            dict.set_item("coupling", convert::csc(py, &coupling)?)?;
+        }
+        other => {
+            return Err(plain(
+                py,
+                Kind::Options,
+                format!("unknown form {other:?}; expected \"real\" or \"complex\""),
+            ));
+        }
+    }
+    dict.set_item("mass", PyArray1::from_vec(py, problem.masses))?;
+    dict.set_item("scale", problem.scale)?;
+    Ok(dict)
+}
+
+/// The positive-semidefinite cotangent Laplacian `L (n × n)` (CSC parts) and the barycentric
+/// vertex masses `(n,)`.
+#[pyfunction]
+fn laplacian<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyAny>)> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let (l, masses) = py.detach(|| (cotan_laplacian(&mesh), barycentric_masses(&mesh)));
+    Ok((
+        convert::csc(py, &l.to_real_block())?,
+        PyArray1::from_vec(py, masses).into_any(),
+    ))
+}
+
+/// A descriptor table as `(values (n, columns), parameters (columns,))`.
+fn table<'py>(py: Python<'py>, table: DescriptorTable) -> (Bound<'py, PyAny>, Bound<'py, PyAny>) {
+    let (rows, columns) = (table.vertex_count(), table.column_count());
+    let parameters = PyArray1::from_slice(py, table.parameters()).into_any();
+    (
+        convert::matrix(py, table.values().to_vec(), rows, columns),
+        parameters,
+    )
+}
+
+/// The heat (`kind = "heat"`: `Σ_i e^{−t λ_i} |φ_i(v)|²`, needs `λ ≥ 0`) or Dirac (`"dirac"`:
+/// `Σ_i e^{−t |λ_i|} |φ_i(v)|²`) kernel signature at `times` (default: `count` times of Sun,
+/// Ovsjanikov and Guibas).
+#[pyfunction]
+fn kernel_signature<'py>(
+    py: Python<'py>,
+    kind: &str,
+    eigenvalues: PyReadonlyArray1<'py, f64>,
+    eigenvectors: PyReadonlyArray3<'py, f64>,
+    times: Option<PyReadonlyArray1<'py, f64>>,
+    count: usize,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let signature = match kind {
+        "heat" => descriptors::heat_kernel_signature,
+        "dirac" => descriptors::dirac_kernel_signature,
+        other => {
+            return Err(plain(
+                py,
+                Kind::Options,
+                format!("unknown kernel signature {other:?}; expected \"heat\" or \"dirac\""),
+            ));
+        }
+    };
+    let values = eigenvalues.as_slice()?.to_vec();
+    let vectors = convert::eigenvectors(py, &eigenvectors)?;
+    let times = times
+        .map(|t| t.as_slice().map(<[f64]>::to_vec))
+        .transpose()?;
+    let computed = py.detach(|| {
+        let modes = Modes::new(&values, &vectors)?;
+        let times = match times {
+            Some(times) => times,
+            None => descriptors::default_times(&modes, count)?,
+        };
+        signature(&modes, &times)
+    });
+    Ok(table(py, computed.map_err(|e| descriptor_error(py, &e))?))
+}
+
+/// The wave kernel signature at log-energies `energies` with width `sigma` (default: the
+/// sampling of Aubry, Schlickewei and Cremers with `count` energies).
+#[pyfunction]
+fn wave_kernel_signature<'py>(
+    py: Python<'py>,
+    eigenvalues: PyReadonlyArray1<'py, f64>,
+    eigenvectors: PyReadonlyArray3<'py, f64>,
+    energies: Option<PyReadonlyArray1<'py, f64>>,
+    sigma: Option<f64>,
+    count: usize,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, f64)> {
+    let values = eigenvalues.as_slice()?.to_vec();
+    let vectors = convert::eigenvectors(py, &eigenvectors)?;
+    let energies = energies
+        .map(|e| e.as_slice().map(<[f64]>::to_vec))
+        .transpose()?;
+    let computed = py.detach(|| {
+        let modes = Modes::new(&values, &vectors)?;
+        let default = descriptors::default_wave_sampling(&modes, count);
+        let sampling = match (energies, sigma) {
+            (Some(energies), Some(sigma)) => WaveSampling { energies, sigma },
+            (Some(energies), None) => WaveSampling {
+                energies,
+                sigma: default?.sigma,
+            },
+            (None, Some(sigma)) => WaveSampling { sigma, ..default? },
+            (None, None) => default?,
+        };
+        let table = descriptors::wave_kernel_signature(&modes, &sampling)?;
+        Ok((table, sampling.sigma))
+    });
+    let (computed, sigma) = computed.map_err(|e| descriptor_error(py, &e))?;
+    let (values, energies) = table(py, computed);
+    Ok((values, energies, sigma))
+}
+
+/// The segmentation descriptor `|φ_j(v)| / √|λ_j|` over the nonzero modes.
+#[pyfunction]
+fn segmentation_descriptor<'py>(
+    py: Python<'py>,
+    eigenvalues: PyReadonlyArray1<'py, f64>,
+    eigenvectors: PyReadonlyArray3<'py, f64>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let values = eigenvalues.as_slice()?.to_vec();
+    let vectors = convert::eigenvectors(py, &eigenvectors)?;
+    let computed = py.detach(|| {
+        let modes = Modes::new(&values, &vectors)?;
+        descriptors::segmentation_descriptor(&modes)
+    });
+    Ok(table(py, computed.map_err(|e| descriptor_error(py, &e))?))
+}
+
+/// The built-in default mesh (Keenan Crane's `spot`) as `(V, F)`.
+#[pyfunction]
+fn default_mesh(py: Python<'_>) -> (Bound<'_, PyAny>, Bound<'_, PyAny>) {
+    convert::mesh_arrays(py, &dirac::default_mesh())
+}
+
+/// The compiled module.
+#[pymodule]
+fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = module.py();
+    module.add("NativeError", py.get_type::<NativeError>())?;
+    module.add("DEFAULT_FLAT_TOLERANCE", DEFAULT_FLAT_TOLERANCE)?;
+    module.add("OPERATORS", Operator::names())?;
+    for function in [
+        wrap_pyfunction!(read_mesh, module)?,
+        wrap_pyfunction!(write_mesh, module)?,
+        wrap_pyfunction!(default_mesh, module)?,
+        wrap_pyfunction!(spectrum, module)?,
+        wrap_pyfunction!(eigenproblem, module)?,
+        wrap_pyfunction!(laplacian, module)?,
+        wrap_pyfunction!(kernel_signature, module)?,
+        wrap_pyfunction!(wave_kernel_signature, module)?,
+        wrap_pyfunction!(segmentation_descriptor, module)?,
+    ] {
+        module.add_function(function)?;
+    }
+    Ok(())
+}

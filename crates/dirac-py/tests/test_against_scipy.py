@@ -1,0 +1,136 @@
+"""`spectrum` against other solvers on the same pencil: scipy's ARPACK (`eigsh`) and LAPACK, on
+the matrices of `operator_matrices`, and the Laplacian against one assembled here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+
+import dirac_spectra as ds
+from conftest import conjugate, icosphere, quaternion_product
+
+
+def cotangent_laplacian(V: np.ndarray, F: np.ndarray) -> tuple[scipy.sparse.csc_array, np.ndarray]:
+    """L_ij = −(cot α_ij + cot β_ij)/2, L_ii = −Σ_j L_ij, and barycentric masses (area/3)."""
+    n = len(V)
+    rows, cols, vals = [], [], []
+    mass = np.zeros(n)
+    for corner in range(3):
+        i, j, k = F[:, corner], F[:, (corner + 1) % 3], F[:, (corner + 2) % 3]
+        u, w = V[j] - V[i], V[k] - V[i]
+        cross = np.linalg.norm(np.cross(u, w), axis=1)
+        cot = np.einsum("ij,ij->i", u, w) / cross  # the angle at i, opposite edge jk
+        rows += [j, k]
+        cols += [k, j]
+        vals += [-cot / 2, -cot / 2]
+        mass += np.bincount(i, weights=cross / 6, minlength=n)
+    off = scipy.sparse.csc_array(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    )
+    return (off - scipy.sparse.diags_array(np.asarray(off.sum(axis=1)).ravel())).tocsc(), mass
+
+
+def test_the_laplacian_is_the_cotangent_laplacian_with_barycentric_masses(sphere):
+    V, F = sphere
+    L, M = ds.laplacian(V, F)
+    expected_L, expected_mass = cotangent_laplacian(V, F)
+    assert abs(L - expected_L).max() < 1e-12 * abs(expected_L).max()
+    np.testing.assert_allclose(M.diagonal(), expected_mass, rtol=1e-13)
+    # Positive semidefinite with constants in the kernel (robust-laplacian's convention).
+    assert np.abs(L @ np.ones(len(V))).max() < 1e-12
+    assert L.diagonal().min() > 0
+
+
+def test_laplace_eigenvalues_equal_eigsh_on_the_laplacian(sphere):
+    V, F = sphere
+    L, M = ds.laplacian(V, F)
+    expected = scipy.sparse.linalg.eigsh(L, k=12, M=M, sigma=-1e-2, which="LM")[0]
+    result = ds.spectrum(V, F, k=12, operator="laplace")
+    assert result.eigenvalues[0] == 0.0  # the constants, listed exactly
+    np.testing.assert_allclose(result.eigenvalues[1:], np.sort(expected)[1:], rtol=1e-9)
+
+
+def pinned_reciprocal_eigenvalues(P, Q, k: int) -> np.ndarray:
+    """The k smallest |λ| of P x = λ Q x with P ⪰ 0 whose kernel is the constants, Q 𝟙 = 0
+    (closed surfaces): with one vertex pinned P is definite and the λ ≠ 0 are those of the
+    reduced pencil; ARPACK finds the largest |μ| of Q x = μ P x."""
+    keep = np.arange(4, P.shape[0])  # vertex 0 pinned: its four real components
+    P_r = P[keep][:, keep].tocsc()
+    Q_r = Q[keep][:, keep].tocsc()
+    factor = scipy.sparse.linalg.splu(P_r)
+    P_inverse = scipy.sparse.linalg.LinearOperator(P_r.shape, matvec=factor.solve)
+    mu = scipy.sparse.linalg.eigsh(Q_r, k=4 * k, M=P_r, Minv=P_inverse, which="LM", tol=1e-13)[0]
+    values = 1.0 / mu
+    values = values[np.argsort(np.abs(values), kind="stable")]
+    return values[::4]  # every quaternionic eigenvalue is four real ones
+
+
+def test_relative_dirac_eigenvalues_equal_eigsh_on_the_real_block_pencil(sphere):
+    V, F = sphere
+    P, Q, _ = ds.operator_matrices(V, F, operator="relative-dirac", form="real")
+    assert P.shape == Q.shape == (4 * len(V), 4 * len(V))
+    assert abs(P - P.T).max() < 1e-12 * abs(P).max() and abs(Q - Q.T).max() < 1e-12 * abs(Q).max()
+    result = ds.spectrum(V, F, k=8)
+    expected = pinned_reciprocal_eigenvalues(P, Q, 8)
+    np.testing.assert_allclose(np.sort(result.eigenvalues), np.sort(expected), rtol=1e-8)
+
+
+def test_family_eigenvalues_equal_a_dense_solve_of_the_pencil():
+    V, F = icosphere(2)  # 162 vertices: a dense 648 × 648 pencil
+    tau = 0.5
+    P, Q, mass = ds.operator_matrices(V, F, operator="family", tau=tau)
+    P, Q = P.toarray(), Q.toarray()
+    # P's kernel is the constants and Q 𝟙 = (1 − τ) M 𝟙 (G 𝟙 = 0 on a closed surface): the
+    # eigenvectors with λ ≠ 0 are M-orthogonal to the constants, so adding c (M𝟙)(M𝟙)ᵀ per
+    # component makes P definite without changing them, and moves the constants to μ ≈ 0.
+    constants = np.kron(mass[:, None], np.eye(4))  # (4n, 4): M 𝟙 for each component
+    P_definite = P + 1e3 * np.abs(P).max() * constants @ constants.T / mass.sum()
+    mu = scipy.linalg.eigh(Q, P_definite, eigvals_only=True)
+    lam = 1.0 / mu[np.abs(mu) > 1e-6 * np.abs(mu).max()]
+    lam = lam[np.argsort(np.abs(lam), kind="stable")][::4]
+    result = ds.spectrum(V, F, k=9, operator="family", tau=tau)
+    assert result.eigenvalues[0] == 0.0 and result.kernel_dimension == 1
+    np.testing.assert_allclose(np.sort(result.eigenvalues[1:]), np.sort(lam[:8]), rtol=1e-8)
+
+
+@pytest.mark.parametrize(
+    "operator, tau", [("relative-dirac", None), ("laplace", None), ("family", 0.3)]
+)
+def test_eigenvectors_satisfy_the_pencil_and_are_mass_orthonormal(sphere, operator, tau):
+    V, F = sphere
+    result = ds.spectrum(V, F, k=10, operator=operator, tau=tau)
+    P, Q, mass = ds.operator_matrices(V, F, operator=operator, tau=tau, form="real")
+    np.testing.assert_allclose(mass, result.mass, rtol=1e-14)
+    for i, lam in enumerate(result.eigenvalues):
+        x = result.eigenvectors[:, i, :].ravel()
+        residual = np.linalg.norm(P @ x - lam * (Q @ x))
+        if lam == 0.0:  # a kernel vector: P x = 0 to rounding
+            assert residual <= 1e-12 * scipy.sparse.linalg.norm(P, 1) * np.linalg.norm(x), i
+        else:
+            assert residual <= 1e-6 * abs(lam) * np.linalg.norm(Q @ x), (i, lam)
+    # Σ_p m_p conj(φ_i(p)) φ_j(p) = δ_ij as quaternions.
+    phi = result.eigenvectors
+    gram = np.einsum(
+        "p,pijc->ijc",
+        mass,
+        quaternion_product(conjugate(phi[:, :, None, :]), phi[:, None, :, :]),
+    )
+    expected = np.zeros_like(gram)
+    expected[..., 0] = np.eye(result.k)
+    np.testing.assert_allclose(gram, expected, atol=1e-9)
+
+
+def test_the_complex_form_is_the_complex_adjoint_of_the_real_form(sphere):
+    V, F = sphere
+    P_real, _, _ = ds.operator_matrices(V, F, form="real")
+    P_complex, _, _ = ds.operator_matrices(V, F, form="complex")
+    assert P_complex.shape == (2 * len(V), 2 * len(V))
+    assert abs(P_complex - P_complex.conj().T).max() < 1e-12 * abs(P_complex).max()
+    # The same spectrum: the smallest eigenvalues of the two Hermitian matrices agree (each
+    # real-block eigenvalue twice as often as the complex one).
+    real = np.sort(scipy.sparse.linalg.eigsh(P_real, k=16, sigma=-1e-3)[0])
+    complex_ = np.sort(scipy.sparse.linalg.eigsh(P_complex, k=8, sigma=-1e-3)[0])
+    np.testing.assert_allclose(real[::2], complex_, rtol=1e-8, atol=1e-10 * abs(real).max())
