@@ -3,27 +3,29 @@
 //! Thin wrappers over the `dirac` crate: arrays in, dicts of arrays out. Validation of dtypes
 //! and the public signatures with their defaults live in the Python half
 //! (`python/dirac_spectra/`), which is what users import; errors are raised as
-//! [`error::NativeError`] and given their documented class there. Every computation runs with
+//! `NativeError` and given their documented class there. Every computation runs with
 //! the GIL released, on at most the number of threads asked for.
 
 mod convert;
 mod error;
 
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 
 use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, write_obj, write_ply};
-use dirac::spectrum::DEFAULT_FLAT_TOLERANCE;
+use dirac::spectrum::{DEFAULT_FLAT_TOLERANCE, spectrum_with_progress};
 use dirac::well::PotentialWell;
 use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions, TriMesh};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use qeig::{Progress, ProgressCallback};
 
 use crate::error::{
     Kind, NativeError, descriptor_error, operator_name_error, plain, raise, read_error,
-    spectrum_error, write_error,
+    spectrum_error, well_error, write_error,
 };
 
 /// `(V, F)` of the mesh file at `path` (`.obj`, `.off`, `.ply`), validated.
@@ -107,6 +109,18 @@ struct WellRequest {
     height: f64,
 }
 
+impl WellRequest {
+    /// The library's well.
+    fn well(&self) -> PotentialWell {
+        PotentialWell {
+            center: self.center,
+            radius: self.radius,
+            steepness: self.steepness,
+            height: self.height,
+        }
+    }
+}
+
 impl Request {
     /// The library's options.
     fn options(&self, py: Python<'_>) -> PyResult<SpectrumOptions> {
@@ -141,12 +155,7 @@ impl Request {
                 ));
             }
         };
-        options.well = self.well.as_ref().map(|w| PotentialWell {
-            center: w.center,
-            radius: w.radius,
-            steepness: w.steepness,
-            height: w.height,
-        });
+        options.well = self.well.as_ref().map(WellRequest::well);
         options.tolerance = self.tolerance;
         options.seed = self.seed;
         options.max_restarts = self.max_restarts;
@@ -158,29 +167,65 @@ impl Request {
     }
 }
 
-/// Runs `work` without the GIL, on one thread (`threads = 1`: inside a one-thread pool, where
-/// the kernels never start a helper thread) or on the calling thread with one helper
-/// (`threads = 2`, the most the solver uses).
+/// Runs `work` without the GIL on the calling thread: alone (`threads = 1`) or with the one
+/// helper thread the kernels use (`threads = 2`, the most the solver uses).
 fn run_detached<T: Send>(
     py: Python<'_>,
     threads: usize,
     work: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
-    if !(1..=2).contains(&threads) {
-        return Err(plain(
+    match threads {
+        1 => Ok(py.detach(|| qsparse::threads::on_one_thread(work))),
+        2 => Ok(py.detach(work)),
+        _ => Err(plain(
             py,
             Kind::Options,
             format!("threads = {threads}: the solver uses 1 or 2 threads"),
-        ));
+        )),
     }
-    if threads == 2 {
-        return Ok(py.detach(work));
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .map_err(|e| plain(py, Kind::Solver, format!("cannot start a thread: {e}")))?;
-    Ok(py.detach(|| pool.install(work)))
+}
+
+/// [`run_detached`] for a solve that reports progress: after every restart the GIL is taken
+/// back briefly to check for signals (Ctrl-C raises `KeyboardInterrupt` within one restart)
+/// and to call `progress` with a dict of the solver's state; an exception from either stops
+/// the solve and is raised instead of its result.
+fn run_reporting<T: Send>(
+    py: Python<'_>,
+    threads: usize,
+    progress: Option<Py<PyAny>>,
+    work: impl FnOnce(ProgressCallback) -> T + Send,
+) -> PyResult<T> {
+    let mut failure: Option<PyErr> = None;
+    let value = run_detached(py, threads, || {
+        let mut report = |state: &Progress| {
+            Python::attach(|py| {
+                let called = py.check_signals().and_then(|()| match &progress {
+                    Some(callback) => callback.call1(py, (progress_dict(py, state)?,)).map(drop),
+                    None => Ok(()),
+                });
+                called.map_or_else(
+                    |error| {
+                        failure = Some(error);
+                        ControlFlow::Break(())
+                    },
+                    |()| ControlFlow::Continue(()),
+                )
+            })
+        };
+        work(&mut report)
+    })?;
+    failure.map_or(Ok(value), Err)
+}
+
+/// The solver's state after a restart.
+fn progress_dict<'py>(py: Python<'py>, state: &Progress) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("round", state.round)?;
+    dict.set_item("restarts", state.restarts)?;
+    dict.set_item("operator_applications", state.operator_applications)?;
+    dict.set_item("locked", state.locked)?;
+    dict.set_item("wanted", state.wanted)?;
+    Ok(dict)
 }
 
 /// The spectrum of `(V, F)` as a dict (see `dirac_spectra.Spectrum`).
@@ -191,11 +236,12 @@ fn spectrum<'py>(
     faces: PyReadonlyArray2<'py, i64>,
     request: Request,
     eigenvectors: bool,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
     let options = request.options(py)?;
-    let (result, masses) = run_detached(py, request.threads, || {
-        let result = dirac::spectrum(&mesh, &options);
+    let (result, masses) = run_reporting(py, request.threads, progress, |report| {
+        let result = spectrum_with_progress(&mesh, &options, Some(report));
         let masses = result.as_ref().map_or_else(partial_scale, |s| s.scale);
         (result, scaled_masses(&mesh, masses))
     })?;
@@ -291,6 +337,37 @@ fn laplacian<'py>(
         convert::csc(py, &l.to_real_block())?,
         PyArray1::from_vec(py, masses).into_any(),
     ))
+}
+
+/// The geodesic distance from `sources` at every vertex (heat method).
+#[pyfunction]
+fn geodesic_distance<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    sources: Vec<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let distance = py
+        .detach(|| dirac::well::geodesic_distance(&mesh, &sources))
+        .map_err(|e| well_error(py, &e))?;
+    Ok(PyArray1::from_vec(py, distance).into_any())
+}
+
+/// The potential `U` of the well at every vertex.
+#[pyfunction]
+fn potential_well<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    well: WellRequest,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mesh = convert::mesh(py, &vertices, &faces)?;
+    let well = well.well();
+    let potential = py
+        .detach(|| well.potential(&mesh))
+        .map_err(|e| well_error(py, &e))?;
+    Ok(PyArray1::from_vec(py, potential).into_any())
 }
 
 /// A descriptor table as `(values (n, columns), parameters (columns,))`.
@@ -414,6 +491,8 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(spectrum, module)?,
         wrap_pyfunction!(eigenproblem, module)?,
         wrap_pyfunction!(laplacian, module)?,
+        wrap_pyfunction!(geodesic_distance, module)?,
+        wrap_pyfunction!(potential_well, module)?,
         wrap_pyfunction!(kernel_signature, module)?,
         wrap_pyfunction!(wave_kernel_signature, module)?,
         wrap_pyfunction!(segmentation_descriptor, module)?,

@@ -4,7 +4,9 @@ pickling, threads and the GIL."""
 from __future__ import annotations
 
 import json
+import os
 import pickle
+import signal
 import subprocess
 import threading
 import time
@@ -269,3 +271,52 @@ def test_the_gil_is_released_during_a_solve():
     assert solve_time[0] > 0.3
     # This thread kept running while the other one solved.
     assert len(ticks) > 50 and gaps.max() < 0.25 * solve_time[0], (len(ticks), gaps.max())
+
+
+def test_progress_is_reported_and_an_exception_from_it_stops_the_solve():
+    V, F = torus(160, 60)
+    states = []
+    full = ds.spectrum(V, F, k=40, progress=states.append)
+    assert len(states) == full.statistics["restarts"] >= 3
+    assert states[-1]["locked"] <= states[-1]["wanted"] == 40
+    assert all(s["operator_applications"] > 0 for s in states)
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_one(state):
+        raise Stop(state["restarts"])
+
+    start = time.perf_counter()
+    with pytest.raises(Stop):
+        ds.spectrum(V, F, k=40, progress=stop_after_one)
+    assert time.perf_counter() - start < 0.7 * full.statistics["total_seconds"]
+
+
+def test_ctrl_c_interrupts_a_long_solve():
+    V, F = torus(160, 60)
+    full = ds.spectrum(V, F, k=40).statistics["total_seconds"]
+    timer = threading.Timer(0.2 * full, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        ds.spectrum(V, F, k=40)
+    elapsed = time.perf_counter() - start
+    timer.join()
+    assert elapsed < 0.8 * full, f"interrupted after {elapsed:.2f} s of a {full:.2f} s solve"
+
+
+def test_geodesic_distance_on_the_sphere_and_the_potential_well(sphere):
+    V, F = sphere
+    north = int(np.argmax(V[:, 2]))
+    distance = ds.geodesic_distance(V, F, north)
+    exact = np.arccos(np.clip(V @ V[north], -1, 1))  # great-circle distance on the unit sphere
+    assert distance[north] == 0.0
+    assert np.max(np.abs(distance - exact)) < 0.05 * np.pi
+    U = ds.potential_well(V, F, radius=1.0, center=north)
+    # U = c σ(γ (d − β)) with the paper's γ = 100, c = 10¹⁰.
+    expected = 1e10 / (1 + np.exp(np.clip(-100 * (distance - 1.0), -700, 700)))
+    np.testing.assert_allclose(U, expected, rtol=1e-9, atol=1e-300)
+    assert U[north] < 1e-30 and U.max() > 0.99e10
+    with pytest.raises(ds.OptionsError, match="source vertex 9999 does not exist"):
+        ds.geodesic_distance(V, F, [0, 9999])

@@ -1,6 +1,10 @@
 //! The crate root's one-call API: operator names, `dirac::eigenproblem` against
-//! `dirac::spectrum`, and the validation of solver options.
+//! `dirac::spectrum`, the validation of solver options and stopping a solve from its progress
+//! callback.
 
+use std::ops::ControlFlow;
+
+use dirac::spectrum::spectrum_with_progress;
 use dirac::{
     Normalization, Operator, OperatorNameError, SpectrumError, SpectrumOptions, eigenproblem,
     spectrum,
@@ -82,4 +86,37 @@ fn solver_options_are_validated_before_solving() {
         spectrum(&mesh, &options),
         Err(SpectrumError::InvalidMaxRestarts)
     ));
+}
+
+#[test]
+fn a_progress_callback_can_stop_the_solve_and_keep_what_converged() {
+    let mesh = dirac::default_mesh();
+    let options = SpectrumOptions::new(Operator::RelativeDirac, 30);
+    let mut calls = 0;
+    let mut stop_at_second = |_: &qeig::Progress| {
+        calls += 1;
+        if calls == 2 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    };
+    let stopped = spectrum_with_progress(&mesh, &options, Some(&mut stop_at_second));
+    assert_eq!(calls, 2, "no call after the stop");
+    let Err(SpectrumError::NotConverged {
+        wanted: 30,
+        partial,
+    }) = stopped
+    else {
+        panic!("expected NotConverged, got {stopped:?}");
+    };
+    assert!(partial.eigenvalues.len() < 30);
+    let full = spectrum(&mesh, &options).unwrap();
+    for lambda in &partial.eigenvalues {
+        assert!(
+            full.eigenvalues
+                .iter()
+                .any(|l| (l - lambda).abs() <= 1e-8 * lambda.abs())
+        );
+    }
 }

@@ -59,7 +59,7 @@ use qscalar::random::SplitMix64;
 
 use crate::basis::{Basis, GramSchmidt, append_orthonormal};
 use crate::dense::real_symmetric_eigen;
-use crate::{EigError, Eigen, Progress, Statistics};
+use crate::{EigError, Eigen, Progress, ProgressCallback, Statistics};
 
 /// Which end(s) of the spectrum are wanted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -239,7 +239,7 @@ pub(crate) fn run<V, O>(
     options: &LanczosOptions,
     k: usize,
     mut basis: Basis<V>,
-    mut progress: Option<&mut dyn FnMut(&Progress)>,
+    mut progress: Option<ProgressCallback>,
 ) -> Result<Outcome<V>, String>
 where
     V: Scalar<Real = f64>,
@@ -455,13 +455,17 @@ where
             }
             orth_time += t.elapsed();
             if let Some(cb) = progress.as_deref_mut() {
-                cb(&Progress {
+                let report = Progress {
                     round: stats.rounds,
                     restarts: stats.restarts,
                     operator_applications: stats.operator_applications,
                     locked: locked.len(),
                     wanted: k,
-                });
+                };
+                if cb(&report).is_break() {
+                    limit_hit = true;
+                    break 'rounds;
+                }
             }
             let unlocked: Vec<usize> = pairs
                 .order
@@ -521,7 +525,7 @@ pub fn hermitian_eigs<V, O>(
     op: &mut O,
     options: &LanczosOptions,
     deflation: &[Vec<V>],
-    progress: Option<&mut dyn FnMut(&Progress)>,
+    progress: Option<ProgressCallback>,
 ) -> Result<Eigen<V>, EigError<V>>
 where
     V: Scalar<Real = f64>,

@@ -59,4 +59,4 @@ pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
 pub use pencil::Pencil;
 /// When the eigensolver may use a second thread (re-exported from `qsparse`).
 pub use qsparse::threads;
-pub use result::{Eigen, Progress, Statistics};
+pub use result::{Eigen, Progress, ProgressCallback, Statistics};

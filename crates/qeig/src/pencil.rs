@@ -24,7 +24,8 @@ use crate::basis::{Basis, GramSchmidt, append_orthonormal};
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
 use crate::{
-    Backend, EigError, Eigen, HermitianOperator, LanczosOptions, PencilOperator, Progress, Which,
+    Backend, EigError, Eigen, HermitianOperator, LanczosOptions, PencilOperator, ProgressCallback,
+    Which,
 };
 
 /// A Hermitian-definite pencil `K x = μ S x` (`K` Hermitian, `S` Hermitian positive definite)
@@ -166,7 +167,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         &self,
         backend: &B,
         options: &LanczosOptions,
-        progress: Option<&mut dyn FnMut(&Progress)>,
+        progress: Option<ProgressCallback>,
     ) -> Result<Eigen<T>, EigError<T>> {
         let start = Instant::now();
         validate_options(options)?;

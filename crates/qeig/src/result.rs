@@ -1,5 +1,6 @@
 //! Results and statistics of an eigensolve.
 
+use std::ops::ControlFlow;
 use std::time::Duration;
 
 /// Eigenpairs of a Hermitian-definite pencil, `K xᵢ = μᵢ S xᵢ` (`μᵢ` real), with statistics.
@@ -82,3 +83,9 @@ pub struct Progress {
     /// Pairs wanted (iteration space).
     pub wanted: usize,
 }
+
+/// The callback of the `*_with_progress` solvers, called after every restart. Returning
+/// [`ControlFlow::Break`] stops the solve at once: it then reports
+/// [`crate::EigError::NotConverged`] with the pairs converged so far (how a caller cancels a
+/// long run, for example on Ctrl-C).
+pub type ProgressCallback<'a> = &'a mut dyn FnMut(&Progress) -> ControlFlow<()>;

@@ -152,7 +152,10 @@ fn largest_magnitude_takes_both_ends() {
 fn progress_is_reported() {
     let (k_mat, s_mat) = pencil(71, 60);
     let mut calls = Vec::new();
-    let mut callback = |p: &qeig::Progress| calls.push(*p);
+    let mut callback = |p: &qeig::Progress| {
+        calls.push(*p);
+        std::ops::ControlFlow::Continue(())
+    };
     let eig = Pencil::new(&k_mat, &s_mat)
         .unwrap()
         .solve_with_progress(

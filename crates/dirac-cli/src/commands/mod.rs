@@ -10,6 +10,7 @@ pub mod render;
 pub mod spectrum;
 
 use std::ffi::OsStr;
+use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -23,6 +24,7 @@ use ndarray_npy::{WriteNpyError, write_npy};
 use thiserror::Error;
 
 use crate::progress::SolveProgress;
+use qeig::Progress;
 
 /// Name of the built-in mesh in reports.
 pub const DEFAULT_MESH_NAME: &str = "spot (built-in)";
@@ -100,7 +102,11 @@ pub fn solve(
 ) -> Result<Solved, ComputeError> {
     let start = Instant::now();
     let display = SolveProgress::start(quiet);
-    let result = spectrum_with_progress(mesh, options, Some(&mut |p| display.update(p)));
+    let mut show = |p: &Progress| {
+        display.update(p);
+        ControlFlow::Continue(())
+    };
+    let result = spectrum_with_progress(mesh, options, Some(&mut show));
     drop(display);
     let elapsed = start.elapsed();
     match result {

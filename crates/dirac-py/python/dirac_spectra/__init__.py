@@ -19,8 +19,10 @@ from ._spectrum import (
     OperatorMatrices,
     PotentialWell,
     Spectrum,
+    geodesic_distance,
     laplacian,
     operator_matrices,
+    potential_well,
     spectrum,
 )
 from .errors import (
@@ -56,9 +58,11 @@ __all__ = [
     "Spectrum",
     "default_mesh",
     "dks",
+    "geodesic_distance",
     "hks",
     "laplacian",
     "operator_matrices",
+    "potential_well",
     "read_mesh",
     "segmentation_descriptor",
     "spectrum",

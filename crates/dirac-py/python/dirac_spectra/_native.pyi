@@ -1,6 +1,6 @@
 # Type stubs of the compiled module (crates/dirac-py/src/lib.rs). Users call the wrappers in
 # dirac_spectra; these take C-contiguous float64 (n, 3) positions and int64 (m, 3) faces.
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -17,11 +17,17 @@ def read_mesh(path: str) -> tuple[np.ndarray, np.ndarray]: ...
 def write_mesh(path: str, vertices: np.ndarray, faces: np.ndarray) -> None: ...
 def default_mesh() -> tuple[np.ndarray, np.ndarray]: ...
 def spectrum(
-    vertices: np.ndarray, faces: np.ndarray, request: _Request, eigenvectors: bool
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    request: _Request,
+    eigenvectors: bool,
+    progress: Callable[[dict[str, int]], object] | None,
 ) -> dict[str, Any]: ...
 def eigenproblem(
     vertices: np.ndarray, faces: np.ndarray, request: _Request, form: str
 ) -> dict[str, Any]: ...
+def geodesic_distance(vertices: np.ndarray, faces: np.ndarray, sources: list[int]) -> np.ndarray: ...
+def potential_well(vertices: np.ndarray, faces: np.ndarray, well: Any) -> np.ndarray: ...
 def laplacian(vertices: np.ndarray, faces: np.ndarray) -> tuple[dict[str, Any], np.ndarray]: ...
 def kernel_signature(
     kind: str,

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Literal, NamedTuple
+from typing import Any, Callable, Literal, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -155,6 +155,7 @@ def spectrum(
     *,
     flat_tolerance: float = DEFAULT_FLAT_TOLERANCE,
     max_restarts: int = 1000,
+    progress: Callable[[dict[str, int]], object] | None = None,
 ) -> Spectrum:
     """The ``k`` eigenpairs of smallest ``|λ|`` of ``operator`` on the mesh ``(V, F)``.
 
@@ -181,6 +182,11 @@ def spectrum(
         flat_tolerance: faces whose Gauss map is flat within this (relative to the edges) are
             flat: their row of ``D_N`` is exactly zero.
         max_restarts: restarts of the eigensolver before it reports non-convergence.
+        progress: called after every restart of the eigensolver with a dict (``round``,
+            ``restarts``, ``operator_applications``, ``locked``, ``wanted``: pairs converged and
+            wanted in the current round), for a progress bar; an exception it raises stops the
+            solve and propagates. Ctrl-C stops a solve within one restart either way
+            (``KeyboardInterrupt``).
 
     Raises:
         MeshError, OptionsError, KernelError, SingularError, SolverError,
@@ -205,7 +211,7 @@ def spectrum(
 
     @translated(make_partial=lambda raw: _spectrum(raw, operator, request.tau))
     def solve() -> dict:
-        return _native.spectrum(vertices, faces, request, bool(eigenvectors))
+        return _native.spectrum(vertices, faces, request, bool(eigenvectors), progress)
 
     return _spectrum(solve(), operator, request.tau)
 
@@ -275,3 +281,28 @@ def laplacian(V: npt.ArrayLike, F: npt.ArrayLike) -> tuple[scipy.sparse.csc_arra
     parts, mass = translated()(_native.laplacian)(vertices, faces)
     return _csc(parts), scipy.sparse.dia_array((mass[np.newaxis, :], [0]), shape=(len(mass),) * 2)
 
+
+
+def geodesic_distance(V: npt.ArrayLike, F: npt.ArrayLike, sources: int | npt.ArrayLike) -> np.ndarray:
+    """Geodesic distance ``(n,)`` from the vertex (or vertices) ``sources`` by the heat method
+    (Crane, Weischedel, Wardetzky 2013), with Neumann boundary conditions."""
+    vertices, faces = _arrays.vertices(V), _arrays.faces(F)
+    indices = [int(i) for i in np.atleast_1d(np.asarray(sources, dtype=np.int64))]
+    if any(i < 0 for i in indices):
+        raise OptionsError(f"sources must be vertex indices ≥ 0, got {indices}")
+    return translated()(_native.geodesic_distance)(vertices, faces, indices)
+
+
+def potential_well(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    radius: float,
+    center: int | None = None,
+    steepness: float = 100.0,
+    height: float = 1e10,
+) -> np.ndarray:
+    """The potential ``U (n,)`` of :class:`PotentialWell` on the mesh as given (the paper's §5.1:
+    ``height · σ(steepness (d − radius))``, ``d`` the geodesic distance from ``center``)."""
+    vertices, faces = _arrays.vertices(V), _arrays.faces(F)
+    well = PotentialWell(float(radius), center, float(steepness), float(height))
+    return translated()(_native.potential_well)(vertices, faces, well)

@@ -47,7 +47,7 @@ mod solve;
 
 use std::borrow::Cow;
 
-use qeig::{Progress, Statistics};
+use qeig::{ProgressCallback, Statistics};
 use qscalar::Quat;
 use qsparse::{CholeskyError, SparseMatrix};
 use thiserror::Error;
@@ -480,11 +480,13 @@ pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, S
     spectrum_with_progress(mesh, options, None)
 }
 
-/// [`spectrum`] with a callback invoked after every restart of the eigensolver.
+/// [`spectrum`] with a callback invoked after every restart of the eigensolver. When it returns
+/// [`std::ops::ControlFlow::Break`], the solve stops and the result is
+/// [`SpectrumError::NotConverged`] with the pairs converged so far.
 pub fn spectrum_with_progress(
     mesh: &TriMesh,
     options: &SpectrumOptions,
-    mut progress: Option<&mut dyn FnMut(&Progress)>,
+    mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     validate(mesh, options)?;
     let Assembled { scale, mesh, spec } = assemble(mesh, options)?;

@@ -2,8 +2,7 @@
 //! the pairs back to the operator's `λ` and to full vectors.
 
 use qeig::{
-    ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, Progress, RealBlock,
-    Statistics, Which,
+    ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, RealBlock, Statistics, Which,
 };
 use qscalar::{Quat, Scalar};
 use qsparse::{CholeskyError, SparseMatrix, vector};
@@ -26,7 +25,7 @@ pub(super) struct Pairs {
 }
 
 /// The progress callback, reborrowed for each solve.
-pub(super) type ProgressCallback<'a, 'b> = &'a mut Option<&'b mut dyn FnMut(&Progress)>;
+pub(super) type ProgressCallback<'a, 'b> = &'a mut Option<qeig::ProgressCallback<'b>>;
 
 /// What can stop a solve.
 pub(super) enum SolveError {
@@ -249,7 +248,7 @@ fn run(
     lanczos.tolerance = options.tolerance;
     lanczos.seed = options.seed;
     lanczos.max_restarts = options.max_restarts;
-    let progress: Option<&mut dyn FnMut(&Progress)> = match progress {
+    let progress: Option<qeig::ProgressCallback> = match progress {
         Some(callback) => Some(&mut **callback),
         None => None,
     };
