@@ -14,6 +14,10 @@ use crate::args::{SolveArgs, value_name};
 pub struct Report {
     /// The mesh file as given, or `spot (built-in)`.
     pub mesh: String,
+    /// SHA-256 of the mesh file's bytes (`dirac batch` only: what a rerun checks before it
+    /// reuses this result).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh_sha256: Option<String>,
     /// Number of vertices.
     pub vertices: usize,
     /// Number of faces.
@@ -22,7 +26,8 @@ pub struct Report {
     #[serde(skip)]
     pub topology: Topology,
     /// The operator and solver options (the keys `operator`, `tau`, `k`, `backend`,
-    /// `normalize`, `well`, `include_kernel`, `flat_tolerance`).
+    /// `normalize`, `well`, `include_kernel`, `flat_tolerance`, `tolerance`, `seed`,
+    /// `max_restarts`).
     #[serde(flatten)]
     pub settings: RunSettings,
     /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
@@ -69,6 +74,12 @@ pub struct RunSettings {
     pub include_kernel: bool,
     /// The `--flat-tolerance`.
     pub flat_tolerance: f64,
+    /// The eigensolver's `--tolerance`.
+    pub tolerance: f64,
+    /// The `--seed` of its start vectors.
+    pub seed: u64,
+    /// The `--max-restarts`.
+    pub max_restarts: usize,
 }
 
 impl RunSettings {
@@ -88,6 +99,9 @@ impl RunSettings {
             }),
             include_kernel: options.include_kernel,
             flat_tolerance: options.flat_tolerance,
+            tolerance: options.tolerance,
+            seed: options.seed,
+            max_restarts: options.max_restarts,
         }
     }
 }
@@ -141,6 +155,7 @@ impl Report {
     pub fn new(name: String, mesh: &TriMesh, settings: RunSettings, load: Duration) -> Self {
         Self {
             mesh: name,
+            mesh_sha256: None,
             vertices: mesh.vertex_count(),
             faces: mesh.face_count(),
             topology: mesh.topology(),

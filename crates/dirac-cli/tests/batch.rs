@@ -184,6 +184,59 @@ fn batch_computes_reports_failures_and_resumes() {
 }
 
 #[test]
+fn a_result_is_reused_only_for_the_same_file_contents_and_settings() {
+    let dir = scratch("batch_identity");
+    let (first, second, out) = (dir.join("a"), dir.join("b"), dir.join("out"));
+    for (input, mesh) in [
+        (&first, bumpy_sphere(1, 1, 0.1)),
+        (&second, bumpy_sphere(2, 1, 0.2)),
+    ] {
+        fs::create_dir_all(input).expect("the temporary directory is writable");
+        write_off(&mesh, input.join("x.off"));
+    }
+    let run = |input: &Path, extra: &[&str]| {
+        let args = [
+            &["batch", text(input), "-k", "4", "--out", text(&out)],
+            extra,
+        ]
+        .concat();
+        let output = dirac(&args);
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        let json: Value = serde_json::from_str(
+            &fs::read_to_string(out.join("x.off.json")).expect("the JSON exists"),
+        )
+        .expect("valid JSON");
+        (statuses(&out), json)
+    };
+    let (status, from_first) = run(&first, &[]);
+    assert_eq!(status, pairs(&[("x.off", "ok")]));
+    assert_eq!(from_first["mesh_sha256"].as_str().map(str::len), Some(64));
+    // Same file name, other contents: computed again, with the other mesh's eigenvalues.
+    let (status, from_second) = run(&second, &[]);
+    assert_eq!(status, pairs(&[("x.off", "ok")]));
+    assert_ne!(from_second["mesh_sha256"], from_first["mesh_sha256"]);
+    assert_ne!(from_second["eigenvalues"], from_first["eigenvalues"]);
+    assert_eq!(run(&second, &[]).0, pairs(&[("x.off", "skipped")]));
+    // Every setting that changes the result is part of the identity.
+    for extra in [
+        &["--seed", "3"][..],
+        &["--tolerance", "1e-9"],
+        &["--max-restarts", "50"],
+    ] {
+        assert_eq!(
+            run(&second, extra).0,
+            pairs(&[("x.off", "ok")]),
+            "{extra:?}"
+        );
+        assert_eq!(
+            run(&second, extra).0,
+            pairs(&[("x.off", "skipped")]),
+            "{extra:?}"
+        );
+    }
+}
+
+#[test]
 fn list_input_with_comments_and_relative_paths() {
     let dir = scratch("batch_list");
     let input = dir.join("meshes");

@@ -8,9 +8,12 @@
 //!
 //! - `<mesh file name>.json` per mesh: the object `dirac spectrum --json` prints. It is written
 //!   to a temporary file and renamed, so a JSON that exists is whole. A rerun skips every mesh
-//!   whose JSON is *complete*: it parses, reports `"converged": true` with `k` eigenvalues, and
-//!   its `operator`, `tau`, `k`, `backend`, `normalize` and `well` equal this run's. Anything
-//!   else is computed again (`--force`: everything).
+//!   whose JSON is *complete*: it parses, reports `"converged": true` with `k` eigenvalues, its
+//!   `mesh_sha256` (the SHA-256 of the mesh file's bytes, recorded by `batch`) is the file's
+//!   now, and every setting that changes the result (`operator`, `tau`, `k`, `backend`,
+//!   `normalize`, `well`, `include_kernel`, `flat_tolerance`, `tolerance`, `seed`,
+//!   `max_restarts`) equals this run's. Anything else is computed again (`--force`:
+//!   everything).
 //! - `summary.csv`, rewritten at the end of every run, one row per mesh in input order:
 //!   `mesh, status, vertices, faces, converged, seconds, error, lambda_0 … lambda_{k−1}` with
 //!   status `ok`, `skipped` (complete from an earlier run), `not-converged` (the JSON holds the
@@ -35,6 +38,7 @@ use dirac::spectrum::SpectrumOptions;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde_json::Value;
+use sha2::{Digest, Sha256};
 use thiserror::Error;
 
 use crate::args::{SolveArgs, positive_count};
@@ -51,7 +55,8 @@ pub const SUMMARY: &str = "summary.csv";
 pub const AFTER_HELP: &str = "\
 Output in --out DIR: <mesh file name>.json per mesh (the object of `dirac spectrum --json`)
 and summary.csv (mesh, status, vertices, faces, converged, seconds, error, lambda_0 ...).
-A rerun skips meshes whose JSON is complete (converged, same operator and options).
+A rerun skips meshes whose JSON is complete (converged, same mesh file contents by SHA-256,
+same operator and options).
 
 Exit codes:
   0  every mesh is complete (computed now or skipped as finished earlier)
@@ -232,14 +237,22 @@ fn json_path(out: &Path, mesh: &Path) -> PathBuf {
     out.join(name)
 }
 
+/// The SHA-256 of a file's bytes, in hexadecimal.
+fn file_sha256(path: &Path) -> io::Result<String> {
+    let digest = Sha256::digest(fs::read(path)?);
+    Ok(digest.iter().map(|byte| format!("{byte:02x}")).collect())
+}
+
 /// The summary row of a complete earlier result, or `None` when `json` is missing,
-/// incomplete or from other settings.
-fn finished(json: &Path, mesh: &Path, settings: &Value, k: usize) -> Option<Row> {
+/// incomplete, of another mesh (another content hash) or from other settings.
+fn finished(json: &Path, mesh: &Path, digest: &str, settings: &Value, k: usize) -> Option<Row> {
     let report: Value = serde_json::from_str(&fs::read_to_string(json).ok()?).ok()?;
-    let same_settings = settings
-        .as_object()?
-        .iter()
-        .all(|(key, value)| report.get(key) == Some(value));
+    let same_mesh = report["mesh_sha256"].as_str() == Some(digest);
+    let same_settings = same_mesh
+        && settings
+            .as_object()?
+            .iter()
+            .all(|(key, value)| report.get(key) == Some(value));
     let eigenvalues: Vec<f64> = report["eigenvalues"]
         .as_array()?
         .iter()
@@ -276,12 +289,16 @@ fn write_report(report: &Report, path: &Path) -> io::Result<()> {
 /// Computes (or skips) one mesh.
 fn process(mesh_path: &Path, args: &BatchArgs, options: &SpectrumOptions, settings: &Value) -> Row {
     let json = json_path(&args.out, mesh_path);
+    let start = Instant::now();
+    let digest = match file_sha256(mesh_path) {
+        Ok(digest) => digest,
+        Err(error) => return Row::failed(mesh_path, format!("{}: {error}", mesh_path.display())),
+    };
     if !args.force
-        && let Some(row) = finished(&json, mesh_path, settings, options.k)
+        && let Some(row) = finished(&json, mesh_path, &digest, settings, options.k)
     {
         return row;
     }
-    let start = Instant::now();
     let (mesh, name) = match load_mesh(Some(mesh_path)) {
         Ok(loaded) => loaded,
         Err(error) => return Row::failed(mesh_path, error.to_string()),
@@ -292,6 +309,7 @@ fn process(mesh_path: &Path, args: &BatchArgs, options: &SpectrumOptions, settin
         RunSettings::new(&args.solve, options),
         start.elapsed(),
     );
+    report.mesh_sha256 = Some(digest);
     let mut row = Row {
         vertices: Some(mesh.vertex_count() as u64),
         faces: Some(mesh.face_count() as u64),
