@@ -237,6 +237,26 @@ fn a_result_is_reused_only_for_the_same_file_contents_and_settings() {
 }
 
 #[test]
+fn a_count_beyond_every_mesh_fails_each_mesh_and_writes_the_summary() {
+    let dir = scratch("batch_huge_k");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    write_off(&bumpy_sphere(1, 1, 0.1), input.join("x.off"));
+    let out = dir.join("out");
+    let output = dirac(&[
+        "batch",
+        text(&input),
+        "-k",
+        "18446744073709551615",
+        "--out",
+        text(&out),
+    ]);
+    assert_eq!(output.status.code(), Some(4), "{}", stderr(&output));
+    assert!(stderr(&output).contains("cannot compute 18446744073709551615 eigenvalues"));
+    assert_eq!(statuses(&out), pairs(&[("x.off", "failed")]));
+}
+
+#[test]
 fn list_input_with_comments_and_relative_paths() {
     let dir = scratch("batch_list");
     let input = dir.join("meshes");

@@ -364,7 +364,15 @@ fn write_summary(rows: &[Row], k: usize, out: &mut impl Write) -> io::Result<()>
     ]
     .map(String::from)
     .to_vec();
-    header.extend((0..k).map(|i| format!("lambda_{i}")));
+    // `k` eigenvalues exist only on meshes with at least `k` vertices: no more columns than
+    // the largest mesh can fill (a huge `-k` fails on every mesh, not here).
+    let largest = rows
+        .iter()
+        .filter_map(|row| row.vertices)
+        .max()
+        .unwrap_or(0);
+    let columns = k.min(usize::try_from(largest).unwrap_or(usize::MAX));
+    header.extend((0..columns).map(|i| format!("lambda_{i}")));
     writeln!(out, "{}", header.join(","))?;
     let optional = |x: Option<String>| x.unwrap_or_default();
     for row in rows {
