@@ -496,11 +496,11 @@ mod tests {
         let json =
             std::env::temp_dir().join(format!("dirac-batch-finished-{}.json", std::process::id()));
         let text = format!(
-            r#"{{"k": 1, "converged": true, "eigenvalues": [{lambda:?}], "timings": {{}}}}"#
+            r#"{{"k": 1, "converged": true, "eigenvalues": [{lambda:?}], "timings": {{}}, "mesh_sha256": "00"}}"#
         );
         fs::write(&json, text).expect("the temporary directory is writable");
         let settings = serde_json::json!({ "k": 1 });
-        let row = finished(&json, Path::new("m.off"), &settings, 1);
+        let row = finished(&json, Path::new("m.off"), "00", &settings, 1);
         let _ = fs::remove_file(&json);
         let row = row.expect("a complete output");
         assert_eq!(row.status, Status::Skipped);
