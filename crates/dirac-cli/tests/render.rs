@@ -501,3 +501,24 @@ fn the_command_reports_bad_modes_sizes_and_files() {
         "{help}"
     );
 }
+
+#[test]
+fn a_reader_that_went_away_is_not_a_panic() {
+    // `dirac render … | head -0`: the picture is written, the closing message has no reader.
+    let out = support::scratch("render_closed_pipe").join("spot.png");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_dirac"))
+        .args(["render", "-k", "4", "--out", support::text(&out)])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the dirac binary runs");
+    drop(child.stdout.take());
+    let output = child.wait_with_output().expect("the run ends");
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{}",
+        support::stderr(&output)
+    );
+    assert!(out.is_file());
+}

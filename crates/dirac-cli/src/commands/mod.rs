@@ -10,6 +10,7 @@ pub mod render;
 pub mod spectrum;
 
 use std::ffi::OsStr;
+use std::io::{self, Write};
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -143,6 +144,12 @@ pub fn write_array<D: Dimension>(path: &Path, array: &Array<f64, D>) -> Result<(
         path: path.to_path_buf(),
         source,
     })
+}
+
+/// Prints an informational line (what was written where) on stdout. The files are written by
+/// then, so a reader that has gone away (`dirac render … | head -0`) is not an error.
+pub fn tell(line: std::fmt::Arguments) {
+    let _ = writeln!(io::stdout().lock(), "{line}");
 }
 
 /// Whether `path` has the extension `ext` (case-insensitive).

@@ -9,10 +9,10 @@ use clap::{Args, Subcommand, ValueEnum};
 use dirac_cli::plot::{Series, plot_spectra};
 
 use crate::args::{OperatorArg, SolveArgs, unit_interval, value_name};
-use crate::commands::load_mesh;
 use crate::commands::render::{
     CommandError, exit_code, picture_exit_codes, picture_path, solve_converged,
 };
+use crate::commands::{load_mesh, tell};
 
 const SPECTRA_HELP: &str = concat!(
     picture_exit_codes!(),
@@ -180,7 +180,11 @@ fn plot(args: &SpectraArgs) -> Result<(), CommandError> {
     });
     plot_spectra(&series, &title, &args.out)?;
     if !args.quiet {
-        println!("wrote {}: {} spectra", args.out.display(), series.len());
+        tell(format_args!(
+            "wrote {}: {} spectra",
+            args.out.display(),
+            series.len()
+        ));
     }
     Ok(())
 }

@@ -22,7 +22,7 @@ use dirac_cli::render::{
 use thiserror::Error;
 
 use crate::args::{SolveArgs, finite, positive_count, positive_real, usage_error, value_name};
-use crate::commands::{ComputeError, NOT_CONVERGED, load_mesh, solve};
+use crate::commands::{ComputeError, NOT_CONVERGED, load_mesh, solve, tell};
 
 /// Exit codes of `dirac render` and `dirac plot` (a macro, so `concat!` can join it with each
 /// command's examples).
@@ -349,10 +349,10 @@ fn render(args: &RenderArgs) -> Result<(), CommandError> {
                 value_name(&kernel).to_uppercase()
             ),
         };
-        println!(
+        tell(format_args!(
             "wrote {} ({width}x{height}): {what} on {name}",
             args.out.display()
-        );
+        ));
     }
     Ok(())
 }
