@@ -144,7 +144,6 @@ pub fn csc<'py, T: Element + Copy>(
 pub fn spectrum_dict<'py>(
     py: Python<'py>,
     spectrum: &Spectrum,
-    masses: &[f64],
     with_eigenvectors: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
@@ -153,10 +152,10 @@ pub fn spectrum_dict<'py>(
         PyArray1::from_slice(py, &spectrum.eigenvalues),
     )?;
     dict.set_item("residuals", PyArray1::from_slice(py, &spectrum.residuals))?;
-    let eigenvectors =
-        with_eigenvectors.then(|| eigenvector_array(py, &spectrum.eigenvectors, masses.len()));
+    let eigenvectors = with_eigenvectors
+        .then(|| eigenvector_array(py, &spectrum.eigenvectors, spectrum.masses.len()));
     dict.set_item("eigenvectors", eigenvectors)?;
-    dict.set_item("mass", PyArray1::from_slice(py, masses))?;
+    dict.set_item("mass", PyArray1::from_slice(py, &spectrum.masses))?;
     dict.set_item("scale", spectrum.scale)?;
     dict.set_item("kernel_dimension", spectrum.kernel.dimension)?;
     dict.set_item("kernel_flat_vertices", spectrum.kernel.flat_vertices)?;

@@ -17,7 +17,7 @@ use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, write_obj, write_ply};
 use dirac::spectrum::{DEFAULT_FLAT_TOLERANCE, spectrum_with_progress};
 use dirac::well::PotentialWell;
-use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions, TriMesh};
+use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -240,41 +240,23 @@ fn spectrum<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
     let options = request.options(py)?;
-    let (result, masses) = run_reporting(py, request.threads, progress, |report| {
-        let result = spectrum_with_progress(&mesh, &options, Some(report));
-        let masses = result.as_ref().map_or_else(partial_scale, |s| s.scale);
-        (result, scaled_masses(&mesh, masses))
+    let result = run_reporting(py, request.threads, progress, |report| {
+        spectrum_with_progress(&mesh, &options, Some(report))
     })?;
     match result {
-        Ok(spectrum) => convert::spectrum_dict(py, &spectrum, &masses, eigenvectors),
+        Ok(spectrum) => convert::spectrum_dict(py, &spectrum, eigenvectors),
         Err(SpectrumError::NotConverged { wanted, partial }) => {
             let details = PyDict::new(py);
             details.set_item("wanted", wanted)?;
             details.set_item(
                 "partial",
-                convert::spectrum_dict(py, &partial, &masses, eigenvectors)?,
+                convert::spectrum_dict(py, &partial, eigenvectors)?,
             )?;
             let message = SpectrumError::NotConverged { wanted, partial };
             Err(raise(Kind::NotConverged, message, &details))
         }
         Err(e) => Err(spectrum_error(py, &e)),
     }
-}
-
-/// The scale of a partial result (1 for other errors, whose masses are not used).
-fn partial_scale(error: &SpectrumError) -> f64 {
-    match error {
-        SpectrumError::NotConverged { partial, .. } => partial.scale,
-        _ => 1.0,
-    }
-}
-
-/// The vertex masses of `mesh` scaled by `scale` (masses are areas: `scale²`).
-fn scaled_masses(mesh: &TriMesh, scale: f64) -> Vec<f64> {
-    barycentric_masses(mesh)
-        .into_iter()
-        .map(|m| m * scale * scale)
-        .collect()
 }
 
 /// The eigenproblem `P x = λ Q x` of the request's operator: a dict with `stiffness` and

@@ -247,12 +247,13 @@ fn file_sha256(path: &Path) -> io::Result<String> {
 /// incomplete, of another mesh (another content hash) or from other settings.
 fn finished(json: &Path, mesh: &Path, digest: &str, settings: &Value, k: usize) -> Option<Row> {
     let report: Value = serde_json::from_str(&fs::read_to_string(json).ok()?).ok()?;
-    let same_mesh = report["mesh_sha256"].as_str() == Some(digest);
-    let same_settings = same_mesh
-        && settings
-            .as_object()?
-            .iter()
-            .all(|(key, value)| report.get(key) == Some(value));
+    if report["mesh_sha256"].as_str() != Some(digest) {
+        return None;
+    }
+    let same_settings = settings
+        .as_object()?
+        .iter()
+        .all(|(key, value)| report.get(key) == Some(value));
     let eigenvalues: Vec<f64> = report["eigenvalues"]
         .as_array()?
         .iter()

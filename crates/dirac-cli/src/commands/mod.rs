@@ -22,10 +22,10 @@ use dirac::spectrum::{Spectrum, SpectrumError, SpectrumOptions, spectrum_with_pr
 use dirac::{TriMesh, default_mesh};
 use ndarray::{Array, Dimension};
 use ndarray_npy::{WriteNpyError, write_npy};
+use qeig::Progress;
 use thiserror::Error;
 
 use crate::progress::SolveProgress;
-use qeig::Progress;
 
 /// Name of the built-in mesh in reports.
 pub const DEFAULT_MESH_NAME: &str = "spot (built-in)";

@@ -284,6 +284,9 @@ pub struct Spectrum {
     pub statistics: Statistics,
     /// Factor applied to the positions (1 without normalisation).
     pub scale: f64,
+    /// The barycentric vertex masses `Ā_p` of the mesh as solved (after normalisation): the
+    /// weights of the eigenvectors' mass norm.
+    pub masses: Vec<f64>,
     /// The exactly known kernel: its dimension and how it was found.
     pub kernel: KernelSummary,
 }
@@ -669,6 +672,7 @@ fn finish(
         residuals: retain(residuals, &converged),
         statistics: pairs.statistics,
         scale,
+        masses: masses.to_vec(),
         kernel,
     };
     if all {
