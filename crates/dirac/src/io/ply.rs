@@ -7,8 +7,8 @@ use std::path::Path;
 
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    Addable, DefaultElement, ElementDef, Encoding, Header, Ply, Property, PropertyDef,
-    PropertyType, ScalarType,
+    Addable, DefaultElement, ElementDef, Encoding, Header, Ply, Property, PropertyAccess,
+    PropertyAccessResult, PropertyDef, PropertyType, ScalarType,
 };
 use ply_rs_bw::writer::Writer;
 
@@ -21,6 +21,14 @@ use crate::TriMesh;
 /// Before the payload is parsed, the element counts the header announces are checked against
 /// the bytes that follow it ([`ParseError::PlyCountExceedsData`], [`ParseError::PlyEmptyElement`]),
 /// so a lying header costs an error, not memory.
+///
+/// Memory is bounded by the file's size: each entry is parsed into a typed record that holds
+/// only what the mesh needs (a vertex's `x, y, z`; a face's index list), and entries of other
+/// elements into a record of size zero. Every entry consumes at least one byte of the file and
+/// a face index at least one more, so the records and the mesh built from them take at most
+/// about 40 bytes per byte of the file (a vertex of three one-byte coordinates: a 32-byte
+/// record and a 24-byte position; a polygon of `n` one-byte indices: `8n + 24` bytes of list
+/// and `24 (n − 2)` of triangles), besides the file's bytes themselves.
 pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
     let mut bytes = Vec::new();
     reader
@@ -30,51 +38,71 @@ pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
         line: e.line(),
         message: e.to_string(),
     };
-    let parser = Parser::<DefaultElement>::new();
     let mut reader = Reader::new(&bytes[..]);
-    let header = parser.read_header(&mut reader).map_err(ply_error)?;
-    check_counts_against_data(&header, reader.get_ref().len())?;
-    let payload = parser
-        .read_payload(&mut reader, &header)
+    let header = Parser::<Ignored>::new()
+        .read_header(&mut reader)
         .map_err(ply_error)?;
-    let element = |name: &'static str| {
-        payload.get(name).ok_or_else(|| ParseError::PlyStructure {
-            element: name,
-            problem: "missing".into(),
-        })
+    check_counts_against_data(&header, reader.get_ref().len())?;
+    // Elements must be read in the order of the header, each with the parser of its record.
+    let mut vertices = None;
+    let mut faces = None;
+    for element in header.elements.values() {
+        match element.name.as_str() {
+            "vertex" => {
+                let parser = Parser::<VertexRecord>::new();
+                vertices = Some(
+                    parser
+                        .read_payload_for_element(&mut reader, element, &header)
+                        .map_err(ply_error)?,
+                );
+            }
+            "face" => {
+                let parser = Parser::<FaceRecord>::new();
+                faces = Some(
+                    parser
+                        .read_payload_for_element(&mut reader, element, &header)
+                        .map_err(ply_error)?,
+                );
+            }
+            _ => {
+                Parser::<Ignored>::new()
+                    .read_payload_for_element(&mut reader, element, &header)
+                    .map_err(ply_error)?;
+            }
+        }
+    }
+    let missing = |name: &'static str| ParseError::PlyStructure {
+        element: name,
+        problem: "missing".into(),
     };
-    let vertices = element("vertex")?;
-    let faces = element("face")?;
+    let vertices = vertices.ok_or_else(|| missing("vertex"))?;
+    let faces = faces.ok_or_else(|| missing("face"))?;
 
     let mut mesh = RawMesh {
         positions: Vec::with_capacity(vertices.len()),
         faces: Vec::with_capacity(faces.len()),
     };
-    for (index, vertex) in vertices.iter().enumerate() {
+    for (index, vertex) in vertices.into_iter().enumerate() {
         let mut p = [0.0; 3];
-        for (c, name) in p.iter_mut().zip(["x", "y", "z"]) {
-            *c = vertex
-                .get(name)
-                .and_then(scalar)
-                .ok_or_else(|| ParseError::PlyValue {
-                    element: "vertex",
-                    index,
-                    problem: format!("no numeric scalar property `{name}`"),
-                })?;
+        for ((c, value), name) in p.iter_mut().zip(vertex.coordinates).zip(["x", "y", "z"]) {
+            *c = value.ok_or_else(|| ParseError::PlyValue {
+                element: "vertex",
+                index,
+                problem: format!("no numeric scalar property `{name}`"),
+            })?;
         }
         mesh.positions.push(p);
     }
     let vertex_count = mesh.positions.len();
-    for (index, face) in faces.iter().enumerate() {
+    let mut polygon = Vec::new();
+    for (index, face) in faces.into_iter().enumerate() {
         let bad = |problem: String| ParseError::PlyValue {
             element: "face",
             index,
             problem,
         };
-        let list = ["vertex_indices", "vertex_index"]
-            .iter()
-            .find_map(|name| face.get(*name))
-            .and_then(integer_list)
+        let list = face
+            .indices
             .ok_or_else(|| bad("no integer list property `vertex_indices`".into()))?;
         if list.len() < 3 {
             return Err(bad(format!(
@@ -82,22 +110,122 @@ pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
                 list.len()
             )));
         }
-        let polygon = list
-            .iter()
-            .map(|&i| {
-                usize::try_from(i)
-                    .ok()
-                    .filter(|&v| v < vertex_count)
-                    .ok_or_else(|| {
-                        bad(format!(
-                            "vertex index {i} does not name one of the {vertex_count} vertices"
-                        ))
-                    })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        polygon.clear();
+        for &i in &list {
+            let vertex = usize::try_from(i)
+                .ok()
+                .filter(|&v| v < vertex_count)
+                .ok_or_else(|| {
+                    bad(format!(
+                        "vertex index {i} does not name one of the {vertex_count} vertices"
+                    ))
+                })?;
+            polygon.push(vertex);
+        }
         mesh.push_polygon(&polygon);
     }
     Ok(mesh)
+}
+
+/// What a `vertex` entry contributes: its `x`, `y`, `z` (any numeric scalar type), `None`
+/// until read. Other properties are dropped as they are parsed.
+struct VertexRecord {
+    coordinates: [Option<f64>; 3],
+}
+
+impl VertexRecord {
+    fn set(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        let axis = match name {
+            "x" => 0,
+            "y" => 1,
+            "z" => 2,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        self.coordinates[axis] = Some(value);
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for VertexRecord {
+    fn new() -> Self {
+        Self {
+            coordinates: [None; 3],
+        }
+    }
+    fn set_char(&mut self, name: &str, value: i8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uchar(&mut self, name: &str, value: u8) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_short(&mut self, name: &str, value: i16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_ushort(&mut self, name: &str, value: u16) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_int(&mut self, name: &str, value: i32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_uint(&mut self, name: &str, value: u32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set(name, value.into())
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        self.set(name, value)
+    }
+}
+
+/// What a `face` entry contributes: its integer list `vertex_indices` (or `vertex_index`),
+/// `None` until read. Other properties are dropped as they are parsed.
+struct FaceRecord {
+    indices: Option<Vec<i64>>,
+}
+
+impl FaceRecord {
+    fn set<T: Copy + Into<i64>>(&mut self, name: &str, list: Vec<T>) -> PropertyAccessResult {
+        if !matches!(name, "vertex_indices" | "vertex_index") {
+            return PropertyAccessResult::Ignored;
+        }
+        self.indices = Some(list.into_iter().map(Into::into).collect());
+        PropertyAccessResult::Set
+    }
+}
+
+impl PropertyAccess for FaceRecord {
+    fn new() -> Self {
+        Self { indices: None }
+    }
+    fn set_list_char(&mut self, name: &str, list: Vec<i8>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+    fn set_list_uchar(&mut self, name: &str, list: Vec<u8>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+    fn set_list_short(&mut self, name: &str, list: Vec<i16>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+    fn set_list_ushort(&mut self, name: &str, list: Vec<u16>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+    fn set_list_int(&mut self, name: &str, list: Vec<i32>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+    fn set_list_uint(&mut self, name: &str, list: Vec<u32>) -> PropertyAccessResult {
+        self.set(name, list)
+    }
+}
+
+/// An entry of an element the mesh does not use: parsed (to reach the next element) and
+/// dropped. Of size zero, so a vector of any count of them allocates nothing.
+struct Ignored;
+
+impl PropertyAccess for Ignored {
+    fn new() -> Self {
+        Ignored
+    }
 }
 
 /// Checks that the payload can hold what the header announces: every element with entries
@@ -146,37 +274,6 @@ fn scalar_size(t: &ScalarType) -> usize {
         ScalarType::Short | ScalarType::UShort => 2,
         ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
         ScalarType::Double => 8,
-    }
-}
-
-/// A numeric scalar as `f64`.
-fn scalar(p: &Property) -> Option<f64> {
-    match *p {
-        Property::Char(v) => Some(v.into()),
-        Property::UChar(v) => Some(v.into()),
-        Property::Short(v) => Some(v.into()),
-        Property::UShort(v) => Some(v.into()),
-        Property::Int(v) => Some(v.into()),
-        Property::UInt(v) => Some(v.into()),
-        Property::Float(v) => Some(v.into()),
-        Property::Double(v) => Some(v),
-        _ => None,
-    }
-}
-
-/// An integer list as `i64`s.
-fn integer_list(p: &Property) -> Option<Vec<i64>> {
-    fn widen<T: Copy + Into<i64>>(list: &[T]) -> Option<Vec<i64>> {
-        Some(list.iter().map(|&v| v.into()).collect())
-    }
-    match p {
-        Property::ListChar(l) => widen(l),
-        Property::ListUChar(l) => widen(l),
-        Property::ListShort(l) => widen(l),
-        Property::ListUShort(l) => widen(l),
-        Property::ListInt(l) => widen(l),
-        Property::ListUInt(l) => widen(l),
-        _ => None,
     }
 }
 
