@@ -14,26 +14,39 @@
 //!   `normalize`, `well`, `include_kernel`, `flat_tolerance`, `tolerance`, `seed`,
 //!   `max_restarts`) equals this run's. Anything else is computed again (`--force`:
 //!   everything).
-//! - `summary.csv`, rewritten at the end of every run, one row per mesh in input order:
-//!   `mesh, status, vertices, faces, converged, seconds, error, lambda_0 … lambda_{k−1}` with
-//!   status `ok`, `skipped` (complete from an earlier run), `not-converged` (the JSON holds the
-//!   converged part) or `failed` (`error` says why; the other fields may be empty).
+//! - `summary.csv`, written at the end of every run (also an interrupted one), one row per mesh
+//!   in input order (see [`summary`]): status `ok`, `skipped` (complete from an earlier run),
+//!   `not-converged` (the JSON holds the converged part), `failed` (`error` says why) or
+//!   `interrupted`. With `--shard I/N` it is `summary-I-of-N.csv`, and `--merge` combines the
+//!   shards' summaries into `summary.csv` ([`shard`], [`merge`]).
+//!
+//! Every file is published whole: written under a unique temporary name in `--out`, synced and
+//! renamed ([`publish`]), so concurrent runs on one directory never see half a file. Ctrl-C
+//! stops the solves in progress within one restart of the eigensolver, writes the summary
+//! (the unfinished meshes `interrupted`) and exits 130; the next run resumes. A second Ctrl-C
+//! exits at once.
 //!
 //! Meshes run in parallel on `--jobs` threads (default: the available parallelism); each solve
 //! itself is sequential (every faer call in `qeig` runs with `Par::Seq`), so `--jobs N` keeps N
 //! cores busy without oversubscription. A failing mesh is reported on stderr and in the summary
-//! and does not stop the others.
+//! and does not stop the others. Each mesh file is read once: its bytes are hashed and parsed.
 
-use std::fs::{self, File};
-use std::io::{self, BufWriter, Write};
+mod merge;
+mod publish;
+mod shard;
+mod summary;
+
+use std::fs;
+use std::io::{self, IsTerminal};
 use std::num::NonZeroUsize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Args;
-use dirac::io::Format;
+use dirac::io::{Format, parse_mesh};
 use dirac::spectrum::SpectrumOptions;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -41,12 +54,18 @@ use serde_json::Value;
 use sha2::{Digest, Sha256};
 use thiserror::Error;
 
+use self::publish::publish;
+pub use self::shard::Shard;
+use self::summary::{Row, Status, write_summary};
 use crate::args::{SolveArgs, positive_count};
-use crate::commands::{load_mesh, solve};
+use crate::commands::{mesh_error_hint, solve_until};
 use crate::output::{Report, RunSettings, write_json};
 
-/// Exit code when at least one mesh failed or did not converge.
+/// Exit code when at least one mesh failed, did not converge or is missing from a merge.
 pub const SOME_FAILED: u8 = 4;
+
+/// Exit code of a run stopped by Ctrl-C (128 + SIGINT), after it wrote its summary.
+pub const INTERRUPTED: u8 = 130;
 
 /// Name of the summary table in the output directory.
 pub const SUMMARY: &str = "summary.csv";
@@ -56,19 +75,27 @@ pub const AFTER_HELP: &str = "\
 Output in --out DIR: <mesh file name>.json per mesh (the object of `dirac spectrum --json`)
 and summary.csv (mesh, status, vertices, faces, converged, seconds, error, lambda_0 ...).
 A rerun skips meshes whose JSON is complete (converged, same mesh file contents by SHA-256,
-same operator and options).
+same operator and options). Files appear whole (temporary name, sync, rename).
+
+Several machines: `--shard I/N` computes the I-th of N parts (1 <= I <= N; every part sees
+the same input) and writes summary-I-of-N.csv; then `--merge` with the same input and --out
+combines them into summary.csv, computing nothing.
 
 Exit codes:
-  0  every mesh is complete (computed now or skipped as finished earlier)
-  1  the batch cannot run: unreadable input, no meshes, colliding file names, or an
-     unwritable output directory or summary
-  2  usage error (bad or missing arguments)
-  4  some meshes failed or did not converge (reported on stderr and in summary.csv);
-     the others are complete
+  0    every mesh is complete (computed now or skipped as finished earlier)
+  1    the batch cannot run: unreadable input, no meshes, file names that collide (also
+       ignoring case), an unwritable output directory or summary, or shard summaries that
+       do not belong to this input (--merge)
+  2    usage error (bad or missing arguments)
+  4    some meshes failed, did not converge, or (--merge) are in no shard summary;
+       reported on stderr and in the summary; the others are complete
+  130  interrupted (Ctrl-C): the summary is written, the next run resumes
 
 Examples:
   dirac batch meshes/ -k 30 --out spectra/
-  dirac batch list.txt --operator laplace --normalize unit-area -k 50 --jobs 2 --out spectra/";
+  dirac batch list.txt --operator laplace --normalize unit-area -k 50 --jobs 2 --out spectra/
+  dirac batch meshes/ -k 30 --out spectra/ --shard 2/8      # one of 8 machines
+  dirac batch meshes/ -k 30 --out spectra/ --merge          # after all 8";
 
 /// Arguments of `dirac batch`.
 #[derive(Debug, Args)]
@@ -89,11 +116,21 @@ pub struct BatchArgs {
     #[arg(short, long, value_name = "N", value_parser = positive_count)]
     pub jobs: Option<usize>,
 
-    /// Recompute meshes whose output is already complete.
+    /// Compute only part I of N (1-based): the meshes at positions I−1, I−1+N, … of the
+    /// input; the summary is summary-I-of-N.csv.
+    #[arg(long, value_name = "I/N", conflicts_with = "merge")]
+    pub shard: Option<Shard>,
+
+    /// Compute nothing: combine the shards' summaries in --out into summary.csv (input
+    /// order), checking each complete result against these options.
     #[arg(long)]
+    pub merge: bool,
+
+    /// Recompute meshes whose output is already complete.
+    #[arg(long, conflicts_with = "merge")]
     pub force: bool,
 
-    /// No progress bar on stderr (errors are still reported).
+    /// No progress on stderr (errors and the final counts are still reported).
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -113,9 +150,11 @@ pub enum BatchError {
     /// The input names no mesh.
     #[error("{}: no .obj, .off or .ply meshes found", .0.display())]
     NoMeshes(PathBuf),
-    /// Two inputs share a file name, so their outputs would collide.
+    /// Two inputs share a file name, up to case, so their outputs would collide.
     #[error(
-        "{} and {} have the same file name; their outputs would collide in --out",
+        "{} and {} have the same file name (up to upper and lower case, which macOS and \
+         Windows file systems do not distinguish); their outputs would collide in --out: \
+         rename one",
         first.display(), second.display()
     )]
     DuplicateName {
@@ -140,51 +179,29 @@ pub enum BatchError {
         /// The error.
         message: String,
     },
+    /// `--merge` found shard summaries that are not of this batch (the message says why).
+    #[error("--merge: {0}")]
+    Merge(String),
 }
 
-/// How one mesh went.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Status {
-    Ok,
-    Skipped,
-    NotConverged,
-    Failed,
+/// Set by the first Ctrl-C: no new mesh starts and the solves in progress stop.
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+fn interrupted() -> bool {
+    INTERRUPT.load(Ordering::SeqCst)
 }
 
-impl Status {
-    fn name(self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::Skipped => "skipped",
-            Status::NotConverged => "not-converged",
-            Status::Failed => "failed",
+/// Handles Ctrl-C for the rest of the process: the first stops the batch gracefully, a
+/// second exits at once (a file being written may then leave its temporary behind).
+fn watch_interrupts() {
+    let installed = ctrlc::set_handler(|| {
+        if INTERRUPT.swap(true, Ordering::SeqCst) {
+            std::process::exit(i32::from(INTERRUPTED));
         }
-    }
-}
-
-/// One row of the summary; `error` names the file it is about.
-#[derive(Debug)]
-struct Row {
-    mesh: PathBuf,
-    status: Status,
-    vertices: Option<u64>,
-    faces: Option<u64>,
-    seconds: Option<f64>,
-    error: String,
-    eigenvalues: Vec<f64>,
-}
-
-impl Row {
-    fn failed(mesh: &Path, error: String) -> Self {
-        Self {
-            mesh: mesh.to_path_buf(),
-            status: Status::Failed,
-            vertices: None,
-            faces: None,
-            seconds: None,
-            error,
-            eigenvalues: Vec::new(),
-        }
+        eprintln!("\ninterrupted: stopping the solves in progress (Ctrl-C again to quit at once)");
+    });
+    if let Err(error) = installed {
+        eprintln!("note: Ctrl-C will stop the batch at once, without its summary: {error}");
     }
 }
 
@@ -216,14 +233,16 @@ fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
     if meshes.is_empty() {
         return Err(BatchError::NoMeshes(input.to_path_buf()));
     }
-    for (i, first) in meshes.iter().enumerate() {
-        if let Some(second) = meshes[i + 1..]
-            .iter()
-            .find(|other| other.file_name() == first.file_name())
-        {
+    let folded = |path: &Path| {
+        path.file_name()
+            .map(|name| name.to_string_lossy().to_lowercase())
+    };
+    let mut seen = std::collections::HashMap::new();
+    for mesh in &meshes {
+        if let Some(first) = seen.insert(folded(mesh), mesh) {
             return Err(BatchError::DuplicateName {
                 first: first.clone(),
-                second: second.clone(),
+                second: mesh.clone(),
             });
         }
     }
@@ -237,10 +256,12 @@ fn json_path(out: &Path, mesh: &Path) -> PathBuf {
     out.join(name)
 }
 
-/// The SHA-256 of a file's bytes, in hexadecimal.
-fn file_sha256(path: &Path) -> io::Result<String> {
-    let digest = Sha256::digest(fs::read(path)?);
-    Ok(digest.iter().map(|byte| format!("{byte:02x}")).collect())
+/// The SHA-256 of `bytes`, in hexadecimal.
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|byte| format!("{byte:02x}"))
+        .collect()
 }
 
 /// The summary row of a complete earlier result, or `None` when `json` is missing,
@@ -276,213 +297,311 @@ fn finished(json: &Path, mesh: &Path, digest: &str, settings: &Value, k: usize) 
     )
 }
 
-/// Writes `report` to `path` through a temporary file, so that `path` is never partial.
-fn write_report(report: &Report, path: &Path) -> io::Result<()> {
-    let mut partial = path.as_os_str().to_os_string();
-    partial.push(".partial");
-    let partial = PathBuf::from(partial);
-    let mut file = BufWriter::new(File::create(&partial)?);
-    write_json(report, &mut file)?;
-    file.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-    fs::rename(&partial, path)
+/// What every mesh of one run shares.
+struct Job<'a> {
+    args: &'a BatchArgs,
+    options: SpectrumOptions,
+    /// The settings as the JSON records them, for comparing with earlier results.
+    settings: Value,
 }
 
-/// Computes (or skips) one mesh.
-fn process(mesh_path: &Path, args: &BatchArgs, options: &SpectrumOptions, settings: &Value) -> Row {
-    let json = json_path(&args.out, mesh_path);
-    let start = Instant::now();
-    let digest = match file_sha256(mesh_path) {
-        Ok(digest) => digest,
-        Err(error) => return Row::failed(mesh_path, format!("{}: {error}", mesh_path.display())),
-    };
-    if !args.force
-        && let Some(row) = finished(&json, mesh_path, &digest, settings, options.k)
-    {
-        return row;
+impl Job<'_> {
+    /// The mesh file's bytes and their SHA-256, or the failed row.
+    fn read(&self, mesh_path: &Path) -> Result<(Vec<u8>, String), Row> {
+        let bytes = fs::read(mesh_path)
+            .map_err(|error| Row::failed(mesh_path, format!("{}: {error}", mesh_path.display())))?;
+        let digest = sha256_hex(&bytes);
+        Ok((bytes, digest))
     }
-    let (mesh, name) = match load_mesh(Some(mesh_path)) {
-        Ok(loaded) => loaded,
-        Err(error) => return Row::failed(mesh_path, error.to_string()),
-    };
-    let mut report = Report::new(
-        name,
-        &mesh,
-        RunSettings::new(&args.solve, options),
-        start.elapsed(),
-    );
-    report.mesh_sha256 = Some(digest);
-    let mut row = Row {
-        vertices: Some(mesh.vertex_count() as u64),
-        faces: Some(mesh.face_count() as u64),
-        ..Row::failed(mesh_path, String::new())
-    };
-    match solve(&mesh, &report.mesh, options, true) {
-        Ok(solved) => {
-            report.set_spectrum(&solved.spectrum, solved.elapsed);
-            report.converged = solved.converged;
-            row.status = if solved.converged {
-                Status::Ok
-            } else {
-                row.error = format!(
-                    "{}: the eigensolver converged only {} of {} eigenvalues",
-                    mesh_path.display(),
-                    solved.spectrum.eigenvalues.len(),
-                    options.k
-                );
-                Status::NotConverged
-            };
-            row.eigenvalues = solved.spectrum.eigenvalues;
-            if let Err(error) = write_report(&report, &json) {
-                row.status = Status::Failed;
-                row.error = format!("{}: {error}", json.display());
-            }
+
+    /// Computes (or skips) one mesh.
+    fn process(&self, mesh_path: &Path) -> Row {
+        if interrupted() {
+            return Row::without_result(
+                mesh_path,
+                Status::Interrupted,
+                format!("{}: not started (interrupted)", mesh_path.display()),
+            );
         }
-        Err(error) => row.error = error.to_string(),
+        let json = json_path(&self.args.out, mesh_path);
+        let start = Instant::now();
+        let (bytes, digest) = match self.read(mesh_path) {
+            Ok(read) => read,
+            Err(row) => return row,
+        };
+        if !self.args.force
+            && let Some(row) = finished(&json, mesh_path, &digest, &self.settings, self.options.k)
+        {
+            return row;
+        }
+        let mesh = match parse_mesh(mesh_path, &bytes) {
+            Ok(mesh) => mesh,
+            Err(error) => {
+                return Row::failed(mesh_path, format!("{error}{}", mesh_error_hint(&error)));
+            }
+        };
+        drop(bytes);
+        let name = mesh_path.display().to_string();
+        let mut report = Report::new(
+            name.clone(),
+            &mesh,
+            RunSettings::new(&self.args.solve, &self.options),
+            start.elapsed(),
+        );
+        report.mesh_sha256 = Some(digest);
+        let mut row = Row {
+            vertices: Some(mesh.vertex_count() as u64),
+            faces: Some(mesh.face_count() as u64),
+            ..Row::failed(mesh_path, String::new())
+        };
+        match solve_until(&mesh, &name, &self.options, true, interrupted) {
+            Ok(solved) if !solved.converged && interrupted() => {
+                row.status = Status::Interrupted;
+                row.error = format!("{name}: stopped (interrupted); the next run computes it");
+            }
+            Ok(solved) => {
+                report.set_spectrum(&solved.spectrum, solved.elapsed);
+                report.converged = solved.converged;
+                row.status = if solved.converged {
+                    Status::Ok
+                } else {
+                    row.error = format!(
+                        "{name}: the eigensolver converged only {} of {} eigenvalues (try a \
+                         larger --tolerance, more --max-restarts or another --seed)",
+                        solved.spectrum.eigenvalues.len(),
+                        self.options.k
+                    );
+                    Status::NotConverged
+                };
+                row.eigenvalues = solved.spectrum.eigenvalues;
+                if let Err(error) = publish(&json, |w| write_json(&report, w)) {
+                    row.status = Status::Failed;
+                    row.error = format!("{}: {error}", json.display());
+                }
+            }
+            Err(error) => row.error = error.to_string(),
+        }
+        row.seconds = Some(start.elapsed().as_secs_f64());
+        row
     }
-    row.seconds = Some(start.elapsed().as_secs_f64());
-    row
 }
 
-/// `field` quoted for CSV when it holds a comma, quote or line break.
-fn csv_field(field: &str) -> String {
-    if field.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", field.replace('"', "\"\""))
-    } else {
-        field.to_string()
+/// Progress over meshes on stderr: a bar with the time left on a terminal, one line per
+/// mesh otherwise (a job's log file); nothing with `quiet`.
+struct MeshProgress {
+    bar: ProgressBar,
+    lines: bool,
+    done: AtomicUsize,
+    total: usize,
+}
+
+impl MeshProgress {
+    fn new(total: usize, quiet: bool) -> Self {
+        let terminal = io::stderr().is_terminal();
+        let bar = if quiet || !terminal {
+            ProgressBar::hidden()
+        } else {
+            let bar =
+                ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+            if let Ok(style) = ProgressStyle::with_template(
+                "{elapsed:>4} [{bar:30}] {pos}/{len} meshes, {eta} left  {wide_msg}",
+            ) {
+                bar.set_style(style);
+            }
+            bar
+        };
+        Self {
+            bar,
+            lines: !quiet && !terminal,
+            done: AtomicUsize::new(0),
+            total,
+        }
+    }
+
+    /// Reports a finished mesh: its error always, its line without a terminal.
+    fn finished(&self, row: &Row) {
+        let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
+        if matches!(row.status, Status::Failed | Status::NotConverged) {
+            self.bar.suspend(|| eprintln!("error: {}", row.error));
+        }
+        if self.lines {
+            let seconds = row
+                .seconds
+                .map(|s| format!(" ({s:.1} s)"))
+                .unwrap_or_default();
+            eprintln!(
+                "[{done}/{}] {}: {}{seconds}",
+                self.total,
+                row.mesh.display(),
+                row.status.name()
+            );
+        }
+        self.bar.set_message(row.mesh.display().to_string());
+        self.bar.inc(1);
     }
 }
 
-/// Writes the summary table.
-fn write_summary(rows: &[Row], k: usize, out: &mut impl Write) -> io::Result<()> {
-    let mut header: Vec<String> = [
-        "mesh",
-        "status",
-        "vertices",
-        "faces",
-        "converged",
-        "seconds",
-        "error",
-    ]
-    .map(String::from)
-    .to_vec();
-    // `k` eigenvalues exist only on meshes with at least `k` vertices: no more columns than
-    // the largest mesh can fill (a huge `-k` fails on every mesh, not here).
-    let largest = rows
+/// The final counts and the failed meshes with their reasons (at most `LISTED`; the
+/// summary has all).
+fn print_outcome(rows: &[Row], summary: &Path) {
+    const LISTED: usize = 20;
+    let count = |status: Status| rows.iter().filter(|row| row.status == status).count();
+    eprintln!("{} meshes, summary in {}:", rows.len(), summary.display());
+    for status in [
+        Status::Ok,
+        Status::Skipped,
+        Status::NotConverged,
+        Status::Failed,
+        Status::Interrupted,
+        Status::Missing,
+    ] {
+        let n = count(status);
+        if n > 0 || matches!(status, Status::Ok | Status::Failed) {
+            eprintln!("  {:<14}{n:>7}", status.name());
+        }
+    }
+    let unfinished: Vec<&Row> = rows
         .iter()
-        .filter_map(|row| row.vertices)
-        .max()
-        .unwrap_or(0);
-    let columns = k.min(usize::try_from(largest).unwrap_or(usize::MAX));
-    header.extend((0..columns).map(|i| format!("lambda_{i}")));
-    writeln!(out, "{}", header.join(","))?;
-    let optional = |x: Option<String>| x.unwrap_or_default();
-    for row in rows {
-        let mut fields = vec![
-            csv_field(&row.mesh.display().to_string()),
-            row.status.name().to_string(),
-            optional(row.vertices.map(|v| v.to_string())),
-            optional(row.faces.map(|f| f.to_string())),
-            (matches!(row.status, Status::Ok | Status::Skipped)).to_string(),
-            optional(row.seconds.map(|s| format!("{s:.3}"))),
-            csv_field(&row.error),
-        ];
-        fields.extend(row.eigenvalues.iter().map(f64::to_string));
-        fields.resize(header.len(), String::new());
-        writeln!(out, "{}", fields.join(","))?;
+        .filter(|row| {
+            matches!(
+                row.status,
+                Status::Failed | Status::NotConverged | Status::Missing
+            )
+        })
+        .collect();
+    if !unfinished.is_empty() {
+        eprintln!("not complete:");
+        for row in unfinished.iter().take(LISTED) {
+            eprintln!("  {}", row.error);
+        }
+        if unfinished.len() > LISTED {
+            eprintln!(
+                "  … and {} more (see the summary)",
+                unfinished.len() - LISTED
+            );
+        }
     }
-    out.flush()
 }
 
-/// The progress bar over meshes: hidden with `quiet` or when stderr is not a terminal.
-fn progress_bar(count: usize, quiet: bool) -> ProgressBar {
-    use std::io::IsTerminal;
-    if quiet || !io::stderr().is_terminal() {
-        return ProgressBar::hidden();
+/// Publishes the summary `name` in `--out`.
+fn write_summary_file(
+    out: &Path,
+    name: &str,
+    rows: &[Row],
+    k: usize,
+) -> Result<PathBuf, BatchError> {
+    let path = out.join(name);
+    publish(&path, |w| write_summary(rows, k, w)).map_err(|source| BatchError::Output {
+        path: path.clone(),
+        source,
+    })?;
+    Ok(path)
+}
+
+/// `--merge`: the shards' rows, each complete one checked against this run's settings.
+fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, BatchError> {
+    let (mut rows, missing_parts) = merge::merge(meshes, &job.args.out)?;
+    if !missing_parts.is_empty() {
+        eprintln!(
+            "warning: no summary of shard {} in {}",
+            missing_parts.join(", "),
+            job.args.out.display()
+        );
     }
-    let bar = ProgressBar::with_draw_target(Some(count as u64), ProgressDrawTarget::stderr());
-    if let Ok(style) =
-        ProgressStyle::with_template("{elapsed:>4} [{bar:30}] {pos}/{len} meshes {wide_msg}")
-    {
-        bar.set_style(style);
+    for row in rows.iter_mut().filter(|row| row.status.is_complete()) {
+        let json = json_path(&job.args.out, &row.mesh);
+        let complete = job.read(&row.mesh).ok().and_then(|(_, digest)| {
+            finished(&json, &row.mesh, &digest, &job.settings, job.options.k)
+        });
+        if complete.is_none() {
+            *row = Row::failed(
+                &row.mesh,
+                format!(
+                    "{}: {} is missing or not a complete result of this mesh file with these \
+                     options; merge with the options the shards ran with, or rerun its shard",
+                    row.mesh.display(),
+                    json.display()
+                ),
+            );
+        }
     }
-    bar
+    Ok(rows)
 }
 
 /// Runs `dirac batch`: exit code 0 when every mesh is complete (computed now or earlier), 4
-/// when some mesh failed or did not converge.
+/// when some mesh failed or did not converge, 130 when interrupted.
 pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
     let options = args
         .solve
         .options("batch")
         .unwrap_or_else(|error| error.exit());
-    let meshes = inputs(&args.input)?;
+    let all = inputs(&args.input)?;
     fs::create_dir_all(&args.out).map_err(|source| BatchError::Output {
         path: args.out.clone(),
         source,
     })?;
-    let settings = serde_json::to_value(RunSettings::new(&args.solve, &options))
-        .expect("the settings serialise to a JSON object");
-    let jobs = args
-        .jobs
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, NonZeroUsize::get));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
-        .build()
-        .map_err(|error| BatchError::Threads {
-            jobs,
-            message: error.to_string(),
-        })?;
+    let job = Job {
+        args,
+        settings: serde_json::to_value(RunSettings::new(&args.solve, &options))
+            .expect("the settings serialise to a JSON object"),
+        options,
+    };
 
-    let bar = progress_bar(meshes.len(), args.quiet);
-    let rows: Vec<Row> = pool.install(|| {
-        meshes
-            .par_iter()
-            .map(|mesh| {
-                let row = catch_unwind(AssertUnwindSafe(|| {
-                    process(mesh, args, &options, &settings)
-                }))
-                .unwrap_or_else(|_| {
-                    Row::failed(mesh, format!("{}: internal error (panic)", mesh.display()))
-                });
-                if matches!(row.status, Status::Failed | Status::NotConverged) {
-                    bar.suspend(|| eprintln!("error: {}", row.error));
-                }
-                bar.set_message(mesh.display().to_string());
-                bar.inc(1);
-                row
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-
-    let summary = args.out.join(SUMMARY);
-    File::create(&summary)
-        .and_then(|file| write_summary(&rows, options.k, &mut BufWriter::new(file)))
-        .map_err(|source| BatchError::Output {
-            path: summary.clone(),
-            source,
-        })?;
-    let failed = rows
-        .iter()
-        .filter(|row| matches!(row.status, Status::Failed | Status::NotConverged))
-        .count();
-    let skipped = rows
-        .iter()
-        .filter(|row| row.status == Status::Skipped)
-        .count();
-    if !args.quiet {
-        eprintln!(
-            "{} meshes: {} computed, {skipped} skipped (complete), {failed} failed; summary in {}",
-            rows.len(),
-            rows.len() - skipped - failed,
-            summary.display()
-        );
-    }
-    Ok(if failed == 0 {
-        ExitCode::SUCCESS
+    let (rows, summary_name) = if args.merge {
+        (merged_rows(&job, &all)?, SUMMARY.to_string())
     } else {
-        ExitCode::from(SOME_FAILED)
-    })
+        let meshes: Vec<&PathBuf> = match args.shard {
+            Some(shard) => all
+                .iter()
+                .enumerate()
+                .filter(|(position, _)| shard.contains(*position))
+                .map(|(_, mesh)| mesh)
+                .collect(),
+            None => all.iter().collect(),
+        };
+        let jobs = args
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, NonZeroUsize::get));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(jobs)
+            .build()
+            .map_err(|error| BatchError::Threads {
+                jobs,
+                message: error.to_string(),
+            })?;
+        watch_interrupts();
+        let progress = MeshProgress::new(meshes.len(), args.quiet);
+        let rows: Vec<Row> = pool.install(|| {
+            meshes
+                .par_iter()
+                .map(|mesh| {
+                    let row =
+                        catch_unwind(AssertUnwindSafe(|| job.process(mesh))).unwrap_or_else(|_| {
+                            Row::failed(mesh, format!("{}: internal error (panic)", mesh.display()))
+                        });
+                    progress.finished(&row);
+                    row
+                })
+                .collect()
+        });
+        progress.bar.finish_and_clear();
+        let name = args
+            .shard
+            .map_or_else(|| SUMMARY.to_string(), Shard::summary_name);
+        (rows, name)
+    };
+
+    let summary = write_summary_file(&args.out, &summary_name, &rows, job.options.k)?;
+    print_outcome(&rows, &summary);
+    Ok(
+        if rows.iter().any(|row| row.status == Status::Interrupted) {
+            ExitCode::from(INTERRUPTED)
+        } else if rows.iter().all(|row| row.status.is_complete()) {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(SOME_FAILED)
+        },
+    )
 }
 
 #[cfg(test)]
@@ -507,5 +626,17 @@ mod tests {
         assert_eq!(row.status, Status::Skipped);
         assert_eq!(row.eigenvalues, [lambda]);
         assert_eq!(row.vertices, None);
+    }
+
+    #[test]
+    fn names_that_differ_only_in_case_collide() {
+        let dir = std::env::temp_dir().join(format!("dirac-batch-case-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let list = dir.join("list.txt");
+        fs::write(&list, "a/Bunny.OBJ\nb/bunny.obj\n").unwrap();
+        let error = inputs(&list).unwrap_err();
+        let _ = fs::remove_dir_all(&dir);
+        assert!(matches!(error, BatchError::DuplicateName { .. }), "{error}");
+        assert!(error.to_string().contains("Bunny.OBJ"), "{error}");
     }
 }

@@ -65,6 +65,19 @@ pub fn load_mesh(path: Option<&Path>) -> Result<(TriMesh, String), ComputeError>
     }
 }
 
+/// What follows the message of a mesh that cannot be read: for an invalid mesh (not for an
+/// unreadable file), that `--repair` exists.
+pub fn mesh_error_hint(error: &ReadError) -> &'static str {
+    match error {
+        ReadError::Mesh { .. } => {
+            "\n  hint: --repair merges duplicate vertices, drops degenerate faces, splits \
+             non-manifold edges and vertices and orients faces consistently (`dirac repair \
+             --help`)"
+        }
+        _ => "",
+    }
+}
+
 /// A spectrum computed by [`solve`].
 pub struct Solved {
     /// The eigenpairs: all `k`, or those that converged.
@@ -101,11 +114,27 @@ pub fn solve(
     options: &SpectrumOptions,
     quiet: bool,
 ) -> Result<Solved, ComputeError> {
+    solve_until(mesh, name, options, quiet, || false)
+}
+
+/// [`solve`], stopped within one restart of the eigensolver once `stop()` is true (then it
+/// returns what converged by then, with `converged: false`).
+pub fn solve_until(
+    mesh: &TriMesh,
+    name: &str,
+    options: &SpectrumOptions,
+    quiet: bool,
+    stop: impl Fn() -> bool,
+) -> Result<Solved, ComputeError> {
     let start = Instant::now();
     let display = SolveProgress::start(quiet);
     let mut show = |p: &Progress| {
         display.update(p);
-        ControlFlow::Continue(())
+        if stop() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
     };
     let result = spectrum_with_progress(mesh, options, Some(&mut show));
     drop(display);

@@ -10,7 +10,7 @@ mod off;
 mod ply;
 
 use std::fs::File;
-use std::io::{self, BufRead, BufReader};
+use std::io::{self, BufRead};
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
@@ -316,18 +316,26 @@ impl Format {
 /// validating them.
 pub fn read_raw(path: impl AsRef<Path>) -> Result<RawMesh, ReadError> {
     let path = path.as_ref();
+    parse_raw(path, &read_bytes(path)?)
+}
+
+/// Reads and validates a mesh file (`.obj`, `.off` or `.ply`, chosen by extension).
+pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriMesh, ReadError> {
+    let path = path.as_ref();
+    parse_mesh(path, &read_bytes(path)?)
+}
+
+/// Parses the contents of the mesh file `path` (format chosen by its extension; errors name
+/// the file) without validating them: [`read_raw`] for bytes already in memory, e.g. read
+/// once to be hashed too.
+pub fn parse_raw(path: &Path, bytes: &[u8]) -> Result<RawMesh, ReadError> {
     let format = Format::from_path(path).ok_or_else(|| ReadError::UnknownFormat {
         path: path.to_path_buf(),
     })?;
-    let file = File::open(path).map_err(|source| ReadError::Open {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let reader = BufReader::new(file);
     match format {
-        Format::Obj => read_obj_from(reader),
-        Format::Off => read_off_from(reader),
-        Format::Ply => read_ply_from(reader),
+        Format::Obj => read_obj_from(bytes),
+        Format::Off => read_off_from(bytes),
+        Format::Ply => read_ply_from(bytes),
     }
     .map_err(|source| ReadError::Parse {
         path: path.to_path_buf(),
@@ -335,15 +343,28 @@ pub fn read_raw(path: impl AsRef<Path>) -> Result<RawMesh, ReadError> {
     })
 }
 
-/// Reads and validates a mesh file (`.obj`, `.off` or `.ply`, chosen by extension).
-pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriMesh, ReadError> {
-    let path = path.as_ref();
-    read_raw(path)?
+/// Parses and validates the contents of the mesh file `path`: [`read_mesh`] for bytes
+/// already in memory.
+pub fn parse_mesh(path: &Path, bytes: &[u8]) -> Result<TriMesh, ReadError> {
+    parse_raw(path, bytes)?
         .into_mesh()
         .map_err(|source| ReadError::Mesh {
             path: path.to_path_buf(),
             source,
         })
+}
+
+/// The bytes of `path`; an unknown extension fails before the file is read.
+fn read_bytes(path: &Path) -> Result<Vec<u8>, ReadError> {
+    if Format::from_path(path).is_none() {
+        return Err(ReadError::UnknownFormat {
+            path: path.to_path_buf(),
+        });
+    }
+    std::fs::read(path).map_err(|source| ReadError::Open {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Like [`read_mesh`], but vertices no face uses are dropped; returns the renumbering
