@@ -58,11 +58,27 @@ fn vertex_index(corner: &str, line: usize, vertex_count: usize) -> Result<usize,
 /// Writes `v x y z` lines (shortest decimal that reads back to the same `f64`) and 1-based
 /// `f i j k` lines.
 pub fn write_obj_to(mesh: &TriMesh, out: &mut impl Write) -> Result<(), WriteError> {
+    write_lines(mesh.positions(), mesh.faces(), out)
+}
+
+impl RawMesh {
+    /// Writes the positions and triangles as they are, valid or not, in the format of
+    /// [`write_obj_to`] (e.g. broken test meshes).
+    pub fn write_obj_to(&self, out: &mut impl Write) -> Result<(), WriteError> {
+        write_lines(&self.positions, &self.faces, out)
+    }
+}
+
+fn write_lines(
+    positions: &[[f64; 3]],
+    faces: &[[usize; 3]],
+    out: &mut impl Write,
+) -> Result<(), WriteError> {
     let io = |source| WriteError::Io { path: None, source };
-    for p in mesh.positions() {
+    for p in positions {
         writeln!(out, "v {} {} {}", p[0], p[1], p[2]).map_err(io)?;
     }
-    for f in mesh.faces() {
+    for f in faces {
         writeln!(out, "f {} {} {}", f[0] + 1, f[1] + 1, f[2] + 1).map_err(io)?;
     }
     out.flush().map_err(io)
