@@ -421,20 +421,20 @@ impl MeshProgress {
     /// Reports a finished mesh: its error always, its line without a terminal.
     fn finished(&self, row: &Row) {
         let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
-        if matches!(row.status, Status::Failed | Status::NotConverged) {
-            self.bar.suspend(|| eprintln!("error: {}", row.error));
-        }
+        let failed = matches!(row.status, Status::Failed | Status::NotConverged);
         if self.lines {
-            let seconds = row
-                .seconds
-                .map(|s| format!(" ({s:.1} s)"))
-                .unwrap_or_default();
-            eprintln!(
-                "[{done}/{}] {}: {}{seconds}",
-                self.total,
-                row.mesh.display(),
-                row.status.name()
-            );
+            let what = if failed {
+                format!("{}: {}", row.status.name(), row.error)
+            } else {
+                let seconds = row
+                    .seconds
+                    .map(|s| format!(" ({s:.1} s)"))
+                    .unwrap_or_default();
+                format!("{}: {}{seconds}", row.mesh.display(), row.status.name())
+            };
+            eprintln!("[{done}/{}] {what}", self.total);
+        } else if failed {
+            self.bar.suspend(|| eprintln!("error: {}", row.error));
         }
         self.bar.set_message(row.mesh.display().to_string());
         self.bar.inc(1);
