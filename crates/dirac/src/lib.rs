@@ -22,6 +22,7 @@
 //! | module | what it holds |
 //! |---|---|
 //! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
+//! | [`repair`](mod@repair) | meshes as downloaded made valid: merged vertices, degenerate faces dropped, non-manifold elements split, faces oriented, with a report |
 //! | [`geometry`], [`curvature`], [`operators`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature |
 //! | [`spectrum`](mod@spectrum) | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
@@ -40,6 +41,7 @@ pub mod io;
 mod mesh;
 pub mod operators;
 pub mod phase;
+pub mod repair;
 pub mod spectrum;
 mod topology;
 pub mod well;
@@ -50,4 +52,6 @@ pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, SolverBackend, Spectrum,
     SpectrumError, SpectrumOptions, eigenproblem, spectrum,
 };
-pub use topology::{Component, Topology};
+pub use topology::{
+    Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,
+};

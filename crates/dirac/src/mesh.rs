@@ -114,24 +114,25 @@ pub struct Edge {
     pub opposite_face: Option<usize>,
 }
 
-/// One face's use of an undirected edge, used to sort and group the edges of a face list.
+/// One face's use of an undirected edge, used to sort and group the edges of a face list
+/// (here and by [`crate::repair`]).
 #[derive(Debug, Clone, Copy)]
-struct EdgeUse {
+pub(crate) struct EdgeUse {
     /// Smaller vertex.
-    lo: usize,
+    pub(crate) lo: usize,
     /// Larger vertex.
-    hi: usize,
+    pub(crate) hi: usize,
     /// The face.
-    face: usize,
+    pub(crate) face: usize,
     /// Whether the face traverses the edge `lo → hi`.
-    forward: bool,
+    pub(crate) forward: bool,
     /// The face's corners (`3 face + local index`) at `lo` and at `hi`.
-    corners: [usize; 2],
+    pub(crate) corners: [usize; 2],
 }
 
 /// The uses of every edge of `faces`, sorted by edge and then face, so each edge's uses are
 /// contiguous (group them with `chunk_by(same_edge)`).
-fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
+pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
     let mut uses: Vec<EdgeUse> = faces
         .iter()
         .enumerate()
@@ -153,7 +154,7 @@ fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
     uses
 }
 
-fn same_edge(a: &EdgeUse, b: &EdgeUse) -> bool {
+pub(crate) fn same_edge(a: &EdgeUse, b: &EdgeUse) -> bool {
     (a.lo, a.hi) == (b.lo, b.hi)
 }
 
@@ -169,7 +170,7 @@ impl EdgeUse {
 }
 
 /// `|(b − a) × (c − a)| / 2`.
-fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+pub(crate) fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     norm(cross(sub(b, a), sub(c, a))) / 2.0
 }
 
@@ -208,25 +209,43 @@ fn referenced(vertex_count: usize, faces: &[[usize; 3]]) -> Vec<bool> {
     used
 }
 
+/// Whether all three coordinates are finite (neither NaN nor infinite).
+pub(crate) fn is_finite_point(p: [f64; 3]) -> bool {
+    p.iter().all(|c| c.is_finite())
+}
+
 /// Finite coordinates on the vertices faces use, and faces of positive finite area.
 fn check_geometry(positions: &[[f64; 3]], faces: &[[usize; 3]]) -> Result<(), MeshError> {
     if let Some(&vertex) = faces
         .iter()
         .flatten()
-        .find(|&&v| positions[v].iter().any(|c| !c.is_finite()))
+        .find(|&&v| !is_finite_point(positions[v]))
     {
         return Err(MeshError::NonFiniteCoordinate { vertex });
     }
-    for (face, &[i, j, k]) in faces.iter().enumerate() {
-        let area = triangle_area(positions[i], positions[j], positions[k]);
-        // Operators divide by the area, so its reciprocal must be finite too.
-        if !(area >= f64::MIN_POSITIVE && area.is_finite()) {
-            return Err(MeshError::ZeroAreaFace { face });
-        }
-        for (apex, a, b) in [(i, j, k), (j, k, i), (k, i, j)] {
-            if !corner_cotangent(positions[apex], positions[a], positions[b]).is_finite() {
-                return Err(MeshError::DegenerateAngle { face, vertex: apex });
-            }
+    for (face, &vertices) in faces.iter().enumerate() {
+        check_face_shape(positions, face, vertices)?;
+    }
+    Ok(())
+}
+
+/// The shape test of one face `face = [i, j, k]` (indices in range): [`MeshError::ZeroAreaFace`]
+/// unless its area and the area's reciprocal are finite and positive, else
+/// [`MeshError::DegenerateAngle`] unless the cotangents at its three corners are finite. Shared
+/// with [`crate::repair`], which drops the faces this rejects.
+pub(crate) fn check_face_shape(
+    positions: &[[f64; 3]],
+    face: usize,
+    [i, j, k]: [usize; 3],
+) -> Result<(), MeshError> {
+    let area = triangle_area(positions[i], positions[j], positions[k]);
+    // Operators divide by the area, so its reciprocal must be finite too.
+    if !(area >= f64::MIN_POSITIVE && area.is_finite()) {
+        return Err(MeshError::ZeroAreaFace { face });
+    }
+    for (apex, a, b) in [(i, j, k), (j, k, i), (k, i, j)] {
+        if !corner_cotangent(positions[apex], positions[a], positions[b]).is_finite() {
+            return Err(MeshError::DegenerateAngle { face, vertex: apex });
         }
     }
     Ok(())
@@ -326,6 +345,31 @@ impl TriMesh {
             },
             old_to_new,
         ))
+    }
+
+    /// The faces `t` with `keep[t]` and the vertices they use, both in their order here;
+    /// returns the mesh and, for each of its vertices, its index here. Valid without a new
+    /// validation only when the kept faces are whole connected components (a vertex keeps all
+    /// its faces or none, so every fan stays whole), which the callers guarantee.
+    pub(crate) fn with_components_of(&self, keep: &[bool]) -> (Self, Vec<usize>) {
+        let faces: Vec<[usize; 3]> = self
+            .faces
+            .iter()
+            .zip(keep)
+            .filter(|&(_, &k)| k)
+            .map(|(f, _)| *f)
+            .collect();
+        let used = referenced(self.vertex_count(), &faces);
+        let vertex_origin: Vec<usize> = (0..self.vertex_count()).filter(|&v| used[v]).collect();
+        let mut new_index = vec![0; self.vertex_count()];
+        for (new, &old) in vertex_origin.iter().enumerate() {
+            new_index[old] = new;
+        }
+        let mesh = Self {
+            positions: vertex_origin.iter().map(|&v| self.positions[v]).collect(),
+            faces: faces.iter().map(|f| f.map(|v| new_index[v])).collect(),
+        };
+        (mesh, vertex_origin)
     }
 
     /// Vertex positions.

@@ -1,8 +1,13 @@
 //! Topology of a validated mesh: boundary loops, connected components, Euler characteristic
-//! and genus.
+//! and genus; selecting components ([`TriMesh::select_component`]).
 
-use crate::TriMesh;
+use std::fmt;
+use std::str::FromStr;
+
+use thiserror::Error;
+
 use crate::disjoint_sets::DisjointSets;
+use crate::{Edge, TriMesh};
 
 /// Counts and invariants of one connected component (faces connected through shared edges).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -52,36 +57,140 @@ impl Topology {
     }
 }
 
+/// The component of every face (faces joined across interior edges), numbered by smallest
+/// face, and the number of components.
+fn face_components(face_count: usize, edges: &[Edge]) -> (Vec<usize>, usize) {
+    let mut sets = DisjointSets::new(face_count);
+    for e in edges {
+        if let Some(g) = e.opposite_face {
+            sets.union(e.face, g);
+        }
+    }
+    let mut component_of_root = vec![usize::MAX; face_count];
+    let mut face_component = vec![0; face_count];
+    let mut count = 0;
+    for t in 0..face_count {
+        let root = sets.find(t);
+        if component_of_root[root] == usize::MAX {
+            component_of_root[root] = count;
+            count += 1;
+        }
+        face_component[t] = component_of_root[root];
+    }
+    (face_component, count)
+}
+
+/// Which connected components [`TriMesh::select_component`] keeps. Parses from and prints as
+/// `all`, `largest` or a component index (`0`, `1`, …).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ComponentSelection {
+    /// The whole mesh.
+    #[default]
+    All,
+    /// The component with the most faces (ties: the one with the smaller index).
+    Largest,
+    /// The component of this index, in the order of [`Topology::components`] (by smallest face
+    /// index).
+    Index(usize),
+}
+
+impl fmt::Display for ComponentSelection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::All => f.write_str("all"),
+            Self::Largest => f.write_str("largest"),
+            Self::Index(i) => write!(f, "{i}"),
+        }
+    }
+}
+
+impl FromStr for ComponentSelection {
+    type Err = ComponentSelectionParseError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        match text {
+            "all" => Ok(Self::All),
+            "largest" => Ok(Self::Largest),
+            _ => text
+                .parse()
+                .map(Self::Index)
+                .map_err(|_| ComponentSelectionParseError(text.to_string())),
+        }
+    }
+}
+
+/// A text that is not `all`, `largest` or a component index.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error(
+    "`{0}` is not a component selection: expected `all`, `largest` or a component index (0, 1, …)"
+)]
+pub struct ComponentSelectionParseError(pub String);
+
+/// Why [`TriMesh::select_component`] failed.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum ComponentError {
+    /// The index names no component.
+    #[error(
+        "component {index} does not exist: the mesh has {count} connected component{} \
+         (indices 0 to {}); use `largest` or `all`",
+        if *count == 1 { "" } else { "s" },
+        count.saturating_sub(1)
+    )]
+    OutOfRange {
+        /// The index asked for.
+        index: usize,
+        /// Number of components (at least 1: a mesh has a face).
+        count: usize,
+    },
+}
+
 impl TriMesh {
+    /// The connected components chosen by `selection` as a mesh of their own, with, for each of
+    /// its vertices, the index of that vertex in `self` (`vertex_origin`). Faces and vertices
+    /// keep their relative order; [`ComponentSelection::All`] returns a copy of the mesh and
+    /// the identity. Components are those of [`TriMesh::topology`].
+    pub fn select_component(
+        &self,
+        selection: ComponentSelection,
+    ) -> Result<(TriMesh, Vec<usize>), ComponentError> {
+        let (face_component, count) = face_components(self.face_count(), &self.edges());
+        let chosen = match selection {
+            ComponentSelection::All => {
+                return Ok((self.clone(), (0..self.vertex_count()).collect()));
+            }
+            ComponentSelection::Index(index) if index >= count => {
+                return Err(ComponentError::OutOfRange { index, count });
+            }
+            ComponentSelection::Index(index) => index,
+            ComponentSelection::Largest => {
+                let mut sizes = vec![0usize; count];
+                for &c in &face_component {
+                    sizes[c] += 1;
+                }
+                // The first maximum: ties go to the smaller index.
+                (0..count).fold(0, |best, c| if sizes[c] > sizes[best] { c } else { best })
+            }
+        };
+        let keep: Vec<bool> = face_component.iter().map(|&c| c == chosen).collect();
+        Ok(self.with_components_of(&keep))
+    }
+
     /// Boundary loops, components, Euler characteristic and genus (see [`Topology`]).
     pub fn topology(&self) -> Topology {
         let edges = self.edges();
-
-        // Components: faces joined across interior edges.
-        let mut sets = DisjointSets::new(self.face_count());
-        for e in &edges {
-            if let Some(g) = e.opposite_face {
-                sets.union(e.face, g);
-            }
-        }
-        let mut component_of_root = vec![usize::MAX; self.face_count()];
-        let mut face_component = vec![0; self.face_count()];
-        let mut components = Vec::new();
-        for t in 0..self.face_count() {
-            let root = sets.find(t);
-            if component_of_root[root] == usize::MAX {
-                component_of_root[root] = components.len();
-                components.push(Component {
-                    vertices: 0,
-                    edges: 0,
-                    faces: 0,
-                    boundary_loops: 0,
-                    euler_characteristic: 0,
-                    genus: 0,
-                });
-            }
-            face_component[t] = component_of_root[root];
-            components[face_component[t]].faces += 1;
+        let (face_component, count) = face_components(self.face_count(), &edges);
+        let empty = Component {
+            vertices: 0,
+            edges: 0,
+            faces: 0,
+            boundary_loops: 0,
+            euler_characteristic: 0,
+            genus: 0,
+        };
+        let mut components = vec![empty; count];
+        for &c in &face_component {
+            components[c].faces += 1;
         }
         // Every vertex is used by a face, and all its faces lie in one component.
         let mut vertex_component = vec![0; self.vertex_count()];
