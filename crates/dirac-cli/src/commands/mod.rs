@@ -69,11 +69,7 @@ pub fn load_mesh(path: Option<&Path>) -> Result<(TriMesh, String), ComputeError>
 /// unreadable file), that `--repair` exists.
 pub fn mesh_error_hint(error: &ReadError) -> &'static str {
     match error {
-        ReadError::Mesh { .. } => {
-            "\n  hint: --repair merges duplicate vertices, drops degenerate faces, splits \
-             non-manifold edges and vertices and orients faces consistently (`dirac repair \
-             --help`)"
-        }
+        ReadError::Mesh { .. } => "; --repair fixes such defects (see `dirac repair --help`)",
         _ => "",
     }
 }
