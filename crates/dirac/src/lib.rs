@@ -47,7 +47,7 @@ pub mod well;
 pub use io::default_mesh;
 pub use mesh::{Edge, MeshError, TriMesh};
 pub use spectrum::{
-    Eigenproblem, Normalization, Operator, OperatorNameError, SolverBackend, Spectrum,
-    SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+    Eigenproblem, Normalization, Operator, OperatorNameError, ParseOperatorError, SolverBackend,
+    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
 };
 pub use topology::{Component, Topology};
