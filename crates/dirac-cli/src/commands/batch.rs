@@ -29,7 +29,6 @@ use std::io::{self, BufWriter, Write};
 use std::num::NonZeroUsize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
@@ -39,14 +38,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
-use thiserror::Error;
 
-use crate::args::{SolveArgs, positive_count};
-use crate::commands::{load_mesh, solve};
-use crate::output::{Report, RunSettings, write_json};
-
-/// Exit code when at least one mesh failed or did not converge.
-pub const SOME_FAILED: u8 = 4;
+use crate::common::error::CliError;
+use crate::common::parsers::positive_count;
+use crate::common::report::{Report, RunSettings, write_json};
+use crate::common::solve::{load_mesh, solve};
+use crate::common::solve_args::SolveArgs;
 
 /// Name of the summary table in the output directory.
 pub const SUMMARY: &str = "summary.csv";
@@ -98,50 +95,6 @@ pub struct BatchArgs {
     pub quiet: bool,
 }
 
-/// Why `dirac batch` could not run at all (exit code 1); failures of single meshes are
-/// reported per mesh instead.
-#[derive(Debug, Error)]
-pub enum BatchError {
-    /// The input directory or list cannot be read.
-    #[error("{}: {source}", path.display())]
-    Input {
-        /// The directory or list.
-        path: PathBuf,
-        /// What failed.
-        source: io::Error,
-    },
-    /// The input names no mesh.
-    #[error("{}: no .obj, .off or .ply meshes found", .0.display())]
-    NoMeshes(PathBuf),
-    /// Two inputs share a file name, so their outputs would collide.
-    #[error(
-        "{} and {} have the same file name; their outputs would collide in --out",
-        first.display(), second.display()
-    )]
-    DuplicateName {
-        /// The first input.
-        first: PathBuf,
-        /// The second input.
-        second: PathBuf,
-    },
-    /// The output directory or summary cannot be written.
-    #[error("{}: {source}", path.display())]
-    Output {
-        /// The file or directory.
-        path: PathBuf,
-        /// What failed.
-        source: io::Error,
-    },
-    /// The worker threads cannot be started.
-    #[error("cannot start {jobs} worker threads: {message}")]
-    Threads {
-        /// Threads asked for.
-        jobs: usize,
-        /// The error.
-        message: String,
-    },
-}
-
 /// How one mesh went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Status {
@@ -189,8 +142,8 @@ impl Row {
 }
 
 /// The meshes named by `input`: a directory's mesh files sorted by name, or a list's lines.
-fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
-    let io_error = |source| BatchError::Input {
+fn inputs(input: &Path) -> Result<Vec<PathBuf>, CliError> {
+    let io_error = |source| CliError::Io {
         path: input.to_path_buf(),
         source,
     };
@@ -214,14 +167,14 @@ fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
             .collect()
     };
     if meshes.is_empty() {
-        return Err(BatchError::NoMeshes(input.to_path_buf()));
+        return Err(CliError::NoMeshes(input.to_path_buf()));
     }
     for (i, first) in meshes.iter().enumerate() {
         if let Some(second) = meshes[i + 1..]
             .iter()
             .find(|other| other.file_name() == first.file_name())
         {
-            return Err(BatchError::DuplicateName {
+            return Err(CliError::DuplicateName {
                 first: first.clone(),
                 second: second.clone(),
             });
@@ -408,15 +361,13 @@ fn progress_bar(count: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
-/// Runs `dirac batch`: exit code 0 when every mesh is complete (computed now or earlier), 4
-/// when some mesh failed or did not converge.
-pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
-    let options = args
-        .solve
-        .options("batch")
-        .unwrap_or_else(|error| error.exit());
+/// Runs `dirac batch`: `Ok` when every mesh is complete (computed now or earlier),
+/// [`CliError::SomeFailed`] (exit code 4) when some mesh failed or did not converge; errors
+/// that stop the whole batch (exit code 1) otherwise.
+pub fn run(args: &BatchArgs) -> Result<(), CliError> {
+    let options = args.solve.options();
     let meshes = inputs(&args.input)?;
-    fs::create_dir_all(&args.out).map_err(|source| BatchError::Output {
+    fs::create_dir_all(&args.out).map_err(|source| CliError::Io {
         path: args.out.clone(),
         source,
     })?;
@@ -428,7 +379,7 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
         .build()
-        .map_err(|error| BatchError::Threads {
+        .map_err(|error| CliError::Threads {
             jobs,
             message: error.to_string(),
         })?;
@@ -458,7 +409,7 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
     let summary = args.out.join(SUMMARY);
     File::create(&summary)
         .and_then(|file| write_summary(&rows, options.k, &mut BufWriter::new(file)))
-        .map_err(|source| BatchError::Output {
+        .map_err(|source| CliError::Io {
             path: summary.clone(),
             source,
         })?;
@@ -478,11 +429,15 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
             summary.display()
         );
     }
-    Ok(if failed == 0 {
-        ExitCode::SUCCESS
+    if failed == 0 {
+        Ok(())
     } else {
-        ExitCode::from(SOME_FAILED)
-    })
+        Err(CliError::SomeFailed {
+            failed,
+            meshes: rows.len(),
+            summary,
+        })
+    }
 }
 
 #[cfg(test)]

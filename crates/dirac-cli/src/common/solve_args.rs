@@ -1,74 +1,35 @@
-//! Command-line arguments (clap derive) and their translation into library options.
+//! The operator and eigensolver options every command that computes a spectrum flattens into
+//! its arguments, and their translation into [`SpectrumOptions`].
 
-use clap::error::ErrorKind;
-use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
+use std::convert::Infallible;
+
+use clap::{Args, ValueEnum};
 use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions};
 use dirac::well::PotentialWell;
 
-use crate::commands::batch::BatchArgs;
-use crate::commands::descriptor::DescriptorArgs;
-use crate::commands::eigenfunctions::EigenfunctionsArgs;
-use crate::commands::plot::PlotArgs;
-use crate::commands::render::RenderArgs;
-use crate::commands::spectrum::SpectrumArgs;
+use crate::common::parsers::{nonnegative_real, positive_count, positive_real, replaced_tau};
 
-const AFTER_HELP: &str = "\
-Exit codes:
-  0  success
-  1  the mesh cannot be read or is invalid (the message names the file and the problem),
-     or the spectrum cannot be computed
-  2  usage error (bad or missing arguments)
-  3  the eigensolver did not converge; what did converge is printed
-     (with --json as the usual object with \"converged\": false)
-
-Examples:
-  dirac spectrum -k 10                       # built-in `spot` mesh, relative Dirac
-  dirac spectrum bunny.obj --operator family --tau 0.5 -k 20 --json";
-
-/// Spectra of the operators of \"A Dirac Operator for Extrinsic Shape Analysis\" (Liu,
-/// Jacobson, Crane 2017) on triangle meshes.
-#[derive(Debug, Parser)]
-#[command(name = "dirac", version, about, after_help = AFTER_HELP)]
-pub struct Cli {
-    /// What to do.
-    #[command(subcommand)]
-    pub command: Command,
-}
-
-/// The subcommands.
-#[derive(Debug, Subcommand)]
-pub enum Command {
-    /// The k eigenvalues of smallest |λ| of an operator on a mesh.
-    #[command(after_help = AFTER_HELP)]
-    Spectrum(SpectrumArgs),
-    /// Eigenvalues and eigenvectors to .npy files, or |φ_I| on the mesh to a .ply.
-    #[command(after_help = crate::commands::eigenfunctions::AFTER_HELP)]
-    Eigenfunctions(EigenfunctionsArgs),
-    /// Per-vertex descriptors (HKS, DKS, WKS, segmentation, eigenvectors) to .csv or .npy.
-    #[command(after_help = crate::commands::descriptor::AFTER_HELP)]
-    Descriptor(DescriptorArgs),
-    /// Spectra of many meshes in parallel, resumable: one JSON per mesh and a summary.csv.
-    #[command(after_help = crate::commands::batch::AFTER_HELP)]
-    Batch(BatchArgs),
-    /// A picture (PNG) of eigenfunction magnitudes |φ_I|, a descriptor (HKS, DKS, WKS) or the
-    /// potential well on a mesh.
-    Render(RenderArgs),
-    /// Charts (PNG or SVG): `dirac plot spectra` draws several spectra in one chart.
-    Plot(PlotArgs),
+/// The help of `--operator`: the forms it accepts.
+fn operator_help() -> String {
+    format!(
+        "The operator: {} (T ∈ [0, 1] is the weight of D_N in the family L(T))",
+        Operator::forms().join(", ")
+    )
 }
 
 /// The operator and eigensolver options shared by every command that computes a spectrum
 /// (flattened into each command's arguments).
 #[derive(Debug, Clone, Args)]
 pub struct SolveArgs {
-    /// The operator.
-    #[arg(long, value_enum, default_value_t = OperatorArg::RelativeDirac)]
-    pub operator: OperatorArg,
+    /// The operator (`Display` form of [`Operator`]: `relative-dirac`, `family:0.5`, …).
+    #[arg(long, value_name = "OPERATOR", default_value_t = Operator::RelativeDirac,
+          help = operator_help())]
+    pub operator: Operator,
 
-    /// Weight τ ∈ [0, 1] of D_N in the family L(τ); required for `family` and
-    /// `family-literal`, rejected for the other operators.
-    #[arg(long, value_name = "T", value_parser = unit_interval)]
-    pub tau: Option<f64>,
+    /// The former `--tau T`: refused with a usage error that names `--operator family:T`.
+    #[arg(long, value_name = "T", hide = true, num_args = 0..=1, default_missing_value = "",
+          allow_hyphen_values = true, value_parser = replaced_tau)]
+    pub tau: Option<Infallible>,
 
     /// Number of eigenvalues (those of smallest |λ|).
     #[arg(short, default_value_t = 10, value_parser = positive_count)]
@@ -147,25 +108,6 @@ pub struct SolveArgs {
     pub well_height: f64,
 }
 
-/// `--operator` values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum OperatorArg {
-    /// Cotangent Laplacian Δ.
-    Laplace,
-    /// Relative Dirac operator D_N.
-    RelativeDirac,
-    /// Extrinsic Dirac operator D_f.
-    ExtrinsicDirac,
-    /// The family L(τ), blended pencil (needs --tau).
-    Family,
-    /// The family L(τ), literal Galerkin operator (needs --tau).
-    FamilyLiteral,
-    /// Squared relative Dirac operator D_N* D_N.
-    Squared,
-    /// Modified Dirichlet energy Hessian Δ + (κ₁² + κ₂²).
-    ModifiedDirichlet,
-}
-
 /// `--backend` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BackendArg {
@@ -186,52 +128,16 @@ pub enum NormalizeArg {
     UnitArea,
 }
 
-/// The command-line name of a value (`relative-dirac`, `unit-area`, …).
-pub fn value_name(value: &impl ValueEnum) -> String {
-    value
-        .to_possible_value()
-        .map(|v| v.get_name().to_string())
-        .unwrap_or_default()
-}
-
 impl SolveArgs {
-    /// Checks what clap cannot express (`--tau` only with the family) and builds the options;
-    /// `subcommand` names the command in the error message. Errors are clap usage errors
-    /// (exit code 2). Also applies `--single-thread`, a process-wide setting
-    /// ([`qeig::threads::set_second_thread_allowed`]).
-    pub fn options(&self, subcommand: &str) -> Result<SpectrumOptions, clap::Error> {
-        if self.single_thread {
-            qeig::threads::set_second_thread_allowed(false);
-        }
-        let operator = match (self.operator, self.tau) {
-            (OperatorArg::Family, Some(tau)) => Operator::Family { tau },
-            (OperatorArg::FamilyLiteral, Some(tau)) => Operator::FamilyLiteral { tau },
-            (OperatorArg::Family | OperatorArg::FamilyLiteral, None) => {
-                return Err(usage_error(
-                    subcommand,
-                    ErrorKind::MissingRequiredArgument,
-                    format!(
-                        "--operator {} needs --tau <T> (the weight of D_N, in [0, 1])",
-                        value_name(&self.operator)
-                    ),
-                ));
-            }
-            (_, Some(_)) => {
-                return Err(usage_error(
-                    subcommand,
-                    ErrorKind::ArgumentConflict,
-                    format!(
-                        "--tau applies only to --operator family or family-literal, not {}",
-                        value_name(&self.operator)
-                    ),
-                ));
-            }
-            (OperatorArg::Laplace, None) => Operator::Laplace,
-            (OperatorArg::RelativeDirac, None) => Operator::RelativeDirac,
-            (OperatorArg::ExtrinsicDirac, None) => Operator::ExtrinsicDirac,
-            (OperatorArg::Squared, None) => Operator::Squared,
-            (OperatorArg::ModifiedDirichlet, None) => Operator::ModifiedDirichlet,
-        };
+    /// The library options these arguments ask for. Pure: `--single-thread`, a process-wide
+    /// setting, is applied by the dispatcher ([`SolveArgs::apply_thread_setting`]).
+    pub fn options(&self) -> SpectrumOptions {
+        self.options_with(self.operator)
+    }
+
+    /// The options of [`SolveArgs::options`] with another operator (`dirac plot spectra
+    /// --operators`); the kernel is listed by that operator's default.
+    pub fn options_with(&self, operator: Operator) -> SpectrumOptions {
         let mut options = SpectrumOptions::new(operator, self.k);
         options.backend = match self.backend {
             BackendArg::Native => SolverBackend::Native,
@@ -253,20 +159,25 @@ impl SolveArgs {
         options.max_restarts = self.max_restarts;
         options.flat_tolerance = self.flat_tolerance;
         options.include_kernel = self.lists_kernel(operator);
-        Ok(options)
+        options
+    }
+
+    /// Applies `--single-thread`: a process-wide setting of the eigensolver
+    /// ([`qeig::threads::set_second_thread_allowed`]).
+    pub fn apply_thread_setting(&self) {
+        if self.single_thread {
+            qeig::threads::set_second_thread_allowed(false);
+        }
     }
 
     /// Switches `options` to the Laplacian for the heat kernel signature (`what` names it in
     /// the note), which is defined for the Laplacian only; a note on stderr says so when
     /// `--operator` asked for another operator than the default.
     pub fn use_laplacian(&self, options: &mut SpectrumOptions, what: &str) {
-        if !matches!(
-            self.operator,
-            OperatorArg::Laplace | OperatorArg::RelativeDirac
-        ) {
+        if !matches!(self.operator, Operator::Laplace | Operator::RelativeDirac) {
             eprintln!(
                 "note: {what} uses the Laplace operator; --operator {} is ignored (the DKS uses it)",
-                value_name(&self.operator)
+                self.operator
             );
         }
         options.operator = Operator::Laplace;
@@ -276,71 +187,5 @@ impl SolveArgs {
     /// `--include-kernel`, `--exclude-kernel`, or else the operator's default.
     fn lists_kernel(&self, operator: Operator) -> bool {
         self.include_kernel || (!self.exclude_kernel && operator.lists_kernel_by_default())
-    }
-}
-
-/// A usage error of `dirac <subcommand>` in the style of clap's own (exit code 2).
-pub fn usage_error(subcommand: &str, kind: ErrorKind, message: String) -> clap::Error {
-    let mut command = Cli::command();
-    command.build();
-    match command.find_subcommand_mut(subcommand) {
-        Some(found) => found.error(kind, message),
-        None => command.error(kind, message),
-    }
-}
-
-/// Value parser (clap `value_parser`).
-pub fn finite(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(format!("`{text}` is not a finite number")),
-    }
-}
-
-/// Value parser (clap `value_parser`).
-pub fn unit_interval(text: &str) -> Result<f64, String> {
-    let x = finite(text)?;
-    if (0.0..=1.0).contains(&x) {
-        Ok(x)
-    } else {
-        Err(format!("{x} is outside [0, 1]"))
-    }
-}
-
-/// Value parser (clap `value_parser`).
-pub fn positive_real(text: &str) -> Result<f64, String> {
-    let x = finite(text)?;
-    if x > 0.0 {
-        Ok(x)
-    } else {
-        Err(format!("{x} is not positive"))
-    }
-}
-
-/// Value parser (clap `value_parser`).
-pub fn nonnegative_real(text: &str) -> Result<f64, String> {
-    let x = finite(text)?;
-    if x >= 0.0 {
-        Ok(x)
-    } else {
-        Err(format!("{x} is negative"))
-    }
-}
-
-/// Value parser (clap `value_parser`).
-pub fn positive_count(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(k) if k > 0 => Ok(k),
-        _ => Err(format!("`{text}` is not a positive integer")),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn clap_definition_is_consistent() {
-        Cli::command().debug_assert();
     }
 }
