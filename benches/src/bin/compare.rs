@@ -5,15 +5,16 @@
 //! ```text
 //! compare spmv|cholesky [--level L | --size N] [--repeats R] [--single-thread]
 //! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R] [--single-thread]
-//!              [--operator laplace-quaternionic|relative-dirac|family] [--tau T]
+//!              [--operator laplace-quaternionic|OPERATOR]
 //! ```
 //!
 //! `spmv` and `cholesky` use `dirac_bench::connection_laplacian` on the unit icosphere:
 //! `--level L` gives `10·4^L + 2` quaternion unknowns, `--size N` picks the smallest level with
 //! at least `N`. `eigs` computes `K` quaternionic pairs of the quaternionic Laplacian pencil on
 //! the icosphere with every backend and the real scalar Laplacian (`dirac_bench::eigs`), or,
-//! with `--operator relative-dirac|family`, the spectrum of that operator on the icosphere or
-//! `--mesh FILE` with every backend (`dirac_bench::spectra`).
+//! with `--operator OPERATOR` written as for `dirac` (`relative-dirac`, `family:0.5`, …), the
+//! spectrum of that operator on the icosphere or `--mesh FILE` with every backend
+//! (`dirac_bench::spectra`).
 //! Defaults: `cholesky --level 4 --repeats 5` (2,562 unknowns, a few seconds), `-k 60`.
 //! faer always runs on one thread; our solver uses a second core where it pays
 //! (`qsparse::threads`) unless `--single-thread` is given, which makes every path sequential.
@@ -29,7 +30,7 @@ use dirac_bench::spectra::compare_spectrum;
 use dirac_bench::{connection_laplacian, icosphere_level_for};
 
 const USAGE: &str = "usage: compare [spmv|cholesky|eigs] [--level L | --size N | --mesh FILE] \
-                     [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family] [--tau T] \
+                     [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family:T|…] \
                      [--single-thread]";
 
 struct Options {
@@ -39,7 +40,6 @@ struct Options {
     repeats: usize,
     mesh: Option<String>,
     operator: String,
-    tau: f64,
     single_thread: bool,
 }
 
@@ -51,7 +51,6 @@ fn parse(args: &[String]) -> Result<Options, String> {
         repeats: 5,
         mesh: None,
         operator: "laplace-quaternionic".into(),
-        tau: 0.5,
         single_thread: false,
     };
     let mut i = 0;
@@ -73,10 +72,6 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--operator" => {
                 options.operator = value(i)?.clone();
-                i += 1;
-            }
-            "--tau" => {
-                options.tau = value(i)?.parse().map_err(|e| format!("--tau: {e}"))?;
                 i += 1;
             }
             "-k" => {
@@ -103,13 +98,12 @@ fn parse(args: &[String]) -> Result<Options, String> {
     Ok(options)
 }
 
-/// `compare eigs --operator relative-dirac|family` on `--mesh FILE` or the icosphere.
+/// `compare eigs --operator OPERATOR` on `--mesh FILE` or the icosphere.
 fn operator_spectrum(options: &Options) -> Result<serde_json::Value, String> {
-    let operator = match options.operator.as_str() {
-        "relative-dirac" => Operator::RelativeDirac,
-        "family" => Operator::Family { tau: options.tau },
-        other => return Err(format!("unknown operator {other}\n{USAGE}")),
-    };
+    let operator: Operator = options
+        .operator
+        .parse()
+        .map_err(|e| format!("--operator: {e}\n{USAGE}"))?;
     let (mesh, label) = match &options.mesh {
         Some(path) => (read_mesh(path).map_err(|e| e.to_string())?, path.clone()),
         None => (

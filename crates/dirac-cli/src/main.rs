@@ -1,30 +1,35 @@
 //! `dirac`: spectra of the operators of "A Dirac Operator for Extrinsic Shape Analysis"
 //! (Liu, Jacobson, Crane 2017) from the command line. See `dirac --help`.
+//!
+//! Layers, from the top (docs/ARCHITECTURE.md): `main` → [`cli`] (definition and dispatch) →
+//! [`commands`] (one module per subcommand) → [`common`] (what they share, [`CliError`]).
 
-mod args;
+mod cli;
 mod commands;
-mod output;
-mod progress;
+mod common;
 
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use crate::args::{Cli, Command};
+use crate::cli::Cli;
+use crate::common::error::CliError;
 
 fn main() -> ExitCode {
-    let outcome = match Cli::parse().command {
-        Command::Spectrum(args) => commands::spectrum::run(&args).map_err(|e| e.to_string()),
-        Command::Eigenfunctions(args) => {
-            commands::eigenfunctions::run(&args).map_err(|e| e.to_string())
+    let outcome = Cli::try_parse()
+        .map_err(CliError::Usage)
+        .and_then(|cli| cli::dispatch(&cli.command));
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            match &error {
+                // clap's own rendering: `error: …`, the usage line, colours; `--help` on stdout.
+                CliError::Usage(usage) => {
+                    let _ = usage.print();
+                }
+                other => eprintln!("error: {other}"),
+            }
+            ExitCode::from(error.exit_code())
         }
-        Command::Descriptor(args) => commands::descriptor::run(&args).map_err(|e| e.to_string()),
-        Command::Batch(args) => commands::batch::run(&args).map_err(|e| e.to_string()),
-        Command::Render(args) => commands::render::run(&args).map_err(|e| e.to_string()),
-        Command::Plot(args) => commands::plot::run(&args).map_err(|e| e.to_string()),
-    };
-    outcome.unwrap_or_else(|error| {
-        eprintln!("error: {error}");
-        ExitCode::FAILURE
-    })
+    }
 }

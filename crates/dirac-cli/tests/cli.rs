@@ -137,16 +137,7 @@ fn laplace_on_the_icosphere_matches_the_sphere() {
 fn family_reports_tau_and_human_output_has_a_table() {
     let path = write_off(&icosphere(1), temporary("icosphere1_family.off"));
     let path = text(&path);
-    let args = [
-        "spectrum",
-        path,
-        "--operator",
-        "family",
-        "--tau",
-        "0.5",
-        "-k",
-        "3",
-    ];
+    let args = ["spectrum", path, "--operator", "family:0.5", "-k", "3"];
     let report = json(&dirac(&[&args[..], &["--json"]].concat()));
     assert_eq!(report["operator"], "family");
     assert_eq!(report["tau"], 0.5);
@@ -187,17 +178,30 @@ fn malformed_file_exits_1_naming_file_and_line() {
 }
 
 #[test]
-fn family_without_tau_is_a_usage_error() {
+fn badly_written_operators_and_the_former_tau_are_usage_errors() {
     assert_usage_errors(
         &["spectrum"],
         &[
-            (&["--operator", "family"], "needs --tau"),
-            (&["--operator", "family-literal"], "needs --tau"),
+            (&["--operator", "family"], "family:T"),
+            (&["--operator", "family-literal"], "family-literal:T"),
+            (&["--operator", "family:2"], "outside [0, 1]"),
+            (&["--operator", "family:x"], "finite number"),
+            (&["--operator", "laplace:0.5"], "takes no weight"),
+            (&["--operator", "dirac"], "relative-dirac"),
+            // The old spelling: --operator is read first and says how to write the weight.
+            (&["--operator", "family", "--tau", "0.5"], "family:0.5"),
             (
-                &["--operator", "laplace", "--tau", "0.5"],
-                "--tau applies only",
+                &["--tau", "0.5"],
+                "--tau was replaced by --operator family:T",
             ),
+            (&["--tau"], "--tau was replaced by --operator family:T"),
         ],
+    );
+    let help = dirac(&["spectrum", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(
+        help.contains("family:T") && help.contains("modified-dirichlet") && !help.contains("--tau"),
+        "{help}"
     );
 }
 
@@ -298,7 +302,7 @@ fn the_kernel_is_reported_listed_on_request_and_a_plane_is_explained() {
     assert_eq!(output.status.code(), Some(1));
     let message = stderr(&output);
     assert!(
-        message.contains("Gauss map is constant") && message.contains("--operator family"),
+        message.contains("Gauss map is constant") && message.contains("--operator family:T"),
         "{message}"
     );
 }

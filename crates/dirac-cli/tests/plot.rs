@@ -152,13 +152,14 @@ fn the_command_reports_bad_operators_and_files() {
         &[
             (
                 &["x.svg", "--operators", "dirac"],
-                "`dirac` is not an operator",
+                "unknown operator \"dirac\"",
             ),
             (
                 &["x.svg", "--operators", "laplace", "--operator", "squared"],
                 "--operator",
             ),
-            (&["x.svg", "--operators", "family"], "--tau"),
+            (&["x.svg", "--operators", "laplace,family"], "family:T"),
+            (&["x.svg", "--operators", "family:1.5"], "outside [0, 1]"),
             (&[text(&gif)], "plot_cli.gif"),
         ],
     );

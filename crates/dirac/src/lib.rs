@@ -49,8 +49,8 @@ pub mod well;
 pub use io::default_mesh;
 pub use mesh::{Edge, MeshError, TriMesh};
 pub use spectrum::{
-    Eigenproblem, Normalization, Operator, OperatorNameError, SolverBackend, Spectrum,
-    SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+    Eigenproblem, Normalization, Operator, OperatorNameError, ParseOperatorError, SolverBackend,
+    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,

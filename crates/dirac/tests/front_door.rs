@@ -1,4 +1,4 @@
-//! The crate root's one-call API: operator names, `dirac::eigenproblem` against
+//! The crate root's one-call API: operator names and their written form (`family:0.5`), `dirac::eigenproblem` against
 //! `dirac::spectrum`, the validation of solver options and stopping a solve from its progress
 //! callback.
 
@@ -6,8 +6,8 @@ use std::ops::ControlFlow;
 
 use dirac::spectrum::spectrum_with_progress;
 use dirac::{
-    Normalization, Operator, OperatorNameError, SpectrumError, SpectrumOptions, eigenproblem,
-    spectrum,
+    Normalization, Operator, OperatorNameError, ParseOperatorError, SpectrumError, SpectrumOptions,
+    eigenproblem, spectrum,
 };
 use qscalar::Quat;
 
@@ -40,6 +40,75 @@ fn every_operator_round_trips_through_its_name() {
     );
     let unknown = Operator::from_name("dirac", None).unwrap_err();
     assert!(unknown.to_string().contains("relative-dirac"), "{unknown}");
+}
+
+#[test]
+fn every_operator_round_trips_through_its_written_form() {
+    // Weights whose shortest decimal is not their binary value must read back exactly too.
+    let family = [0.0, 0.1, 0.5, 1.0 / 3.0, 1.0].map(|tau| Operator::Family { tau });
+    let literal = [0.25, 0.7].map(|tau| Operator::FamilyLiteral { tau });
+    let others = Operator::names()
+        .into_iter()
+        .filter_map(|name| Operator::from_name(name, None).ok());
+    for operator in family.into_iter().chain(literal).chain(others) {
+        let written = operator.to_string();
+        assert_eq!(written.parse::<Operator>(), Ok(operator), "{written}");
+    }
+    assert_eq!(Operator::Family { tau: 0.5 }.to_string(), "family:0.5");
+    assert_eq!(
+        Operator::FamilyLiteral { tau: 0.25 }.to_string(),
+        "family-literal:0.25"
+    );
+    assert_eq!(Operator::Family { tau: 0.1 }.to_string(), "family:0.1");
+    assert_eq!(Operator::RelativeDirac.to_string(), "relative-dirac");
+    assert_eq!(Operator::forms().len(), Operator::names().len());
+}
+
+#[test]
+fn badly_written_operators_say_what_is_wrong() {
+    let parse = |text: &str| text.parse::<Operator>().unwrap_err();
+    assert_eq!(
+        parse("family"),
+        ParseOperatorError::MissingTau { name: "family" }
+    );
+    assert_eq!(
+        parse("family:x"),
+        ParseOperatorError::InvalidTau {
+            name: "family",
+            text: "x".to_string()
+        }
+    );
+    assert_eq!(
+        parse("family-literal:inf"),
+        ParseOperatorError::InvalidTau {
+            name: "family-literal",
+            text: "inf".to_string()
+        }
+    );
+    assert_eq!(
+        parse("family:2"),
+        ParseOperatorError::TauOutOfRange {
+            name: "family",
+            tau: 2.0
+        }
+    );
+    assert_eq!(
+        parse("laplace:0.5"),
+        ParseOperatorError::UnexpectedTau { name: "laplace" }
+    );
+    assert_eq!(
+        parse("dirac"),
+        ParseOperatorError::Unknown {
+            name: "dirac".to_string()
+        }
+    );
+    assert!(parse("family:2").to_string().contains("[0, 1]"));
+    let unknown = parse("Laplace").to_string();
+    assert!(
+        unknown.contains("family:T") && unknown.contains("relative-dirac"),
+        "{unknown}"
+    );
+    assert!(parse("family").to_string().contains("family:0.5"));
 }
 
 #[test]

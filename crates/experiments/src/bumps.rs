@@ -166,7 +166,7 @@ fn descriptors(
         options.backend = backend;
         options.tolerance = TOLERANCE;
         spectrum(mesh, &options).map_err(|source| ExperimentError::Spectrum {
-            operator: format!("{operator:?}"),
+            operator,
             mesh: 0,
             source,
         })

@@ -91,7 +91,7 @@ pub fn eigenfunction_magnitudes(
     let k = (count + 1).min(mesh.vertex_count());
     let result = spectrum(mesh, &SpectrumOptions::new(operator, k)).map_err(|source| {
         ExperimentError::Spectrum {
-            operator: format!("{operator:?}"),
+            operator,
             mesh: 0,
             source,
         }

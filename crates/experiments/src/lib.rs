@@ -44,8 +44,8 @@ pub enum ExperimentError {
     /// A spectrum could not be computed.
     #[error("{operator} on mesh {mesh}: {source}")]
     Spectrum {
-        /// The operator's name.
-        operator: String,
+        /// The operator.
+        operator: dirac::spectrum::Operator,
         /// Index of the mesh in its experiment.
         mesh: usize,
         /// The failure.

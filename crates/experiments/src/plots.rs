@@ -4,6 +4,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use dirac::spectrum::Operator;
 use dirac_cli::plot::{PointGroup, Series, plot_points, plot_spectra};
 
 use crate::ExperimentError;
@@ -11,15 +12,10 @@ use crate::embedding::classical_mds;
 use crate::metrics::distance_matrix;
 use crate::spectra::OperatorSpectra;
 
-/// `dir/<prefix>-<operator>.png` with the operator's name in lower case, spaces as `-` and
-/// without parentheses (`L(0.5)` → `l0.5`).
-pub fn plot_path(dir: &Path, prefix: &str, operator: &str) -> PathBuf {
-    let slug: String = operator
-        .to_lowercase()
-        .chars()
-        .filter(|c| !matches!(c, '(' | ')'))
-        .map(|c| if c == ' ' { '-' } else { c })
-        .collect();
+/// `dir/<prefix>-<operator>.png` with the operator as the command line writes it, its `:` as
+/// `-` (`family:0.5` → `family-0.5`).
+pub fn plot_path(dir: &Path, prefix: &str, operator: Operator) -> PathBuf {
+    let slug = operator.to_string().replace(':', "-");
     dir.join(format!("{prefix}-{slug}.png"))
 }
 
@@ -58,7 +54,7 @@ pub fn write_spectra_plots(
     for_each_operator(tables, dir, "spectra", |table, path| {
         plot_spectra(
             &class_means(&table.spectra, labels, names),
-            &format!("{}: mean spectrum per class", table.operator.name),
+            &format!("{}: mean spectrum per class", table.operator),
             path,
         )?;
         Ok(())
@@ -90,7 +86,7 @@ pub fn write_embedding_plots(
             .collect();
         plot_points(
             &groups,
-            &format!("{}: MDS of spectral distances", table.operator.name),
+            &format!("{}: MDS of spectral distances", table.operator),
             path,
         )?;
         Ok(())
@@ -109,7 +105,7 @@ fn for_each_operator(
     tables
         .iter()
         .map(|table| {
-            let path = plot_path(dir, prefix, table.operator.name);
+            let path = plot_path(dir, prefix, table.operator);
             draw(table, &path)?;
             Ok(path)
         })

@@ -2,6 +2,8 @@
 
 use std::path::Path;
 
+use dirac::spectrum::Operator;
+
 use crate::ExperimentError;
 use crate::metrics::Scores;
 use crate::plots::{write_embedding_plots, write_spectra_plots};
@@ -10,8 +12,8 @@ use crate::spectra::OperatorSpectra;
 /// One operator's row: scores and cost.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScoreRow {
-    /// Operator name.
-    pub operator: &'static str,
+    /// The operator.
+    pub operator: Operator,
     /// Separation scores of its spectra.
     pub scores: Scores,
     /// Seconds spent computing its spectra.
@@ -29,7 +31,7 @@ pub fn score_rows(
     tables
         .iter()
         .map(|table| ScoreRow {
-            operator: table.operator.name,
+            operator: table.operator,
             scores: Scores::new(&table.spectra, labels, starts, seed),
             seconds: table.seconds,
         })

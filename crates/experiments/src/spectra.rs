@@ -12,40 +12,16 @@ use dirac::well::PotentialWell;
 
 use crate::ExperimentError;
 
-/// An operator with the name the tables and plots print.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NamedOperator {
-    /// Short name (`Laplace`, `L(0.5)`, …).
-    pub name: &'static str,
-    /// The operator.
-    pub operator: Operator,
-}
-
 /// The cotangent Laplacian `Δ`.
-pub const LAPLACE: NamedOperator = NamedOperator {
-    name: "Laplace",
-    operator: Operator::Laplace,
-};
+pub const LAPLACE: Operator = Operator::Laplace;
 /// The family half way, `L(0.5)` (blended pencil).
-pub const HALF_WAY: NamedOperator = NamedOperator {
-    name: "L(0.5)",
-    operator: Operator::Family { tau: 0.5 },
-};
+pub const HALF_WAY: Operator = Operator::Family { tau: 0.5 };
 /// The relative Dirac operator `D_N`.
-pub const RELATIVE_DIRAC: NamedOperator = NamedOperator {
-    name: "relative Dirac",
-    operator: Operator::RelativeDirac,
-};
+pub const RELATIVE_DIRAC: Operator = Operator::RelativeDirac;
 /// The extrinsic Dirac operator `D_f` (the paper's "Dirac").
-pub const DIRAC: NamedOperator = NamedOperator {
-    name: "Dirac",
-    operator: Operator::ExtrinsicDirac,
-};
+pub const DIRAC: Operator = Operator::ExtrinsicDirac;
 /// The modified Dirichlet energy Hessian `Δ + κ₁² + κ₂²`.
-pub const MODIFIED_DIRICHLET: NamedOperator = NamedOperator {
-    name: "modified Dirichlet",
-    operator: Operator::ModifiedDirichlet,
-};
+pub const MODIFIED_DIRICHLET: Operator = Operator::ModifiedDirichlet;
 
 /// Relative residual tolerance of every eigensolve (eigenvalues to about 8 digits, far below
 /// the differences the experiments measure).
@@ -54,8 +30,9 @@ pub const TOLERANCE: f64 = 1e-8;
 /// One operator's spectra of every mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OperatorSpectra {
-    /// The operator.
-    pub operator: NamedOperator,
+    /// The operator (tables and plots print it as the command line writes it: `laplace`,
+    /// `family:0.5`, …).
+    pub operator: Operator,
     /// One spectrum per mesh, in the order of the meshes.
     pub spectra: Vec<Vec<f64>>,
     /// Wall-clock seconds of all of this operator's solves (well and assembly included).
@@ -67,7 +44,7 @@ pub struct OperatorSpectra {
 /// the potential well of mesh `i` (or none).
 pub fn compute_spectra(
     meshes: &[TriMesh],
-    operators: &[NamedOperator],
+    operators: &[Operator],
     k: usize,
     backend: SolverBackend,
     normalization: Normalization,
@@ -75,13 +52,13 @@ pub fn compute_spectra(
 ) -> Result<Vec<OperatorSpectra>, ExperimentError> {
     operators
         .iter()
-        .map(|&named| {
+        .map(|&operator| {
             let start = Instant::now();
             let spectra = meshes
                 .iter()
                 .enumerate()
                 .map(|(index, mesh)| {
-                    let mut options = SpectrumOptions::new(named.operator, k);
+                    let mut options = SpectrumOptions::new(operator, k);
                     options.backend = backend;
                     options.normalization = normalization;
                     options.tolerance = TOLERANCE;
@@ -89,14 +66,14 @@ pub fn compute_spectra(
                     spectrum(mesh, &options)
                         .map(|s| s.eigenvalues)
                         .map_err(|source| ExperimentError::Spectrum {
-                            operator: named.name.to_string(),
+                            operator,
                             mesh: index,
                             source,
                         })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             Ok(OperatorSpectra {
-                operator: named,
+                operator,
                 spectra,
                 seconds: start.elapsed().as_secs_f64(),
             })

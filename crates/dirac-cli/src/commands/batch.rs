@@ -41,7 +41,6 @@ use std::io::{self, IsTerminal};
 use std::num::NonZeroUsize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -52,20 +51,15 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
-use thiserror::Error;
 
 use self::publish::publish;
 pub use self::shard::Shard;
 use self::summary::{Row, Status, write_summary};
-use crate::args::{SolveArgs, positive_count};
-use crate::commands::{mesh_error_hint, solve_until};
-use crate::output::{Report, RunSettings, write_json};
-
-/// Exit code when at least one mesh failed, did not converge or is missing from a merge.
-pub const SOME_FAILED: u8 = 4;
-
-/// Exit code of a run stopped by Ctrl-C (128 + SIGINT), after it wrote its summary.
-pub const INTERRUPTED: u8 = 130;
+use crate::common::error::{CliError, INTERRUPTED, mesh_error_hint};
+use crate::common::parsers::positive_count;
+use crate::common::report::{Report, RunSettings, write_json};
+use crate::common::solve::solve_until;
+use crate::common::solve_args::SolveArgs;
 
 /// Name of the summary table in the output directory.
 pub const SUMMARY: &str = "summary.csv";
@@ -135,55 +129,6 @@ pub struct BatchArgs {
     pub quiet: bool,
 }
 
-/// Why `dirac batch` could not run at all (exit code 1); failures of single meshes are
-/// reported per mesh instead.
-#[derive(Debug, Error)]
-pub enum BatchError {
-    /// The input directory or list cannot be read.
-    #[error("{}: {source}", path.display())]
-    Input {
-        /// The directory or list.
-        path: PathBuf,
-        /// What failed.
-        source: io::Error,
-    },
-    /// The input names no mesh.
-    #[error("{}: no .obj, .off or .ply meshes found", .0.display())]
-    NoMeshes(PathBuf),
-    /// Two inputs share a file name, up to case, so their outputs would collide.
-    #[error(
-        "{} and {} have the same file name (up to upper and lower case, which macOS and \
-         Windows file systems do not distinguish); their outputs would collide in --out: \
-         rename one",
-        first.display(), second.display()
-    )]
-    DuplicateName {
-        /// The first input.
-        first: PathBuf,
-        /// The second input.
-        second: PathBuf,
-    },
-    /// The output directory or summary cannot be written.
-    #[error("{}: {source}", path.display())]
-    Output {
-        /// The file or directory.
-        path: PathBuf,
-        /// What failed.
-        source: io::Error,
-    },
-    /// The worker threads cannot be started.
-    #[error("cannot start {jobs} worker threads: {message}")]
-    Threads {
-        /// Threads asked for.
-        jobs: usize,
-        /// The error.
-        message: String,
-    },
-    /// `--merge` found shard summaries that are not of this batch (the message says why).
-    #[error("--merge: {0}")]
-    Merge(String),
-}
-
 /// Set by the first Ctrl-C: no new mesh starts and the solves in progress stop.
 static INTERRUPT: AtomicBool = AtomicBool::new(false);
 
@@ -206,8 +151,8 @@ fn watch_interrupts() {
 }
 
 /// The meshes named by `input`: a directory's mesh files sorted by name, or a list's lines.
-fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
-    let io_error = |source| BatchError::Input {
+fn inputs(input: &Path) -> Result<Vec<PathBuf>, CliError> {
+    let io_error = |source| CliError::Io {
         path: input.to_path_buf(),
         source,
     };
@@ -231,7 +176,7 @@ fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
             .collect()
     };
     if meshes.is_empty() {
-        return Err(BatchError::NoMeshes(input.to_path_buf()));
+        return Err(CliError::NoMeshes(input.to_path_buf()));
     }
     let folded = |path: &Path| {
         path.file_name()
@@ -240,7 +185,7 @@ fn inputs(input: &Path) -> Result<Vec<PathBuf>, BatchError> {
     let mut seen = std::collections::HashMap::new();
     for mesh in &meshes {
         if let Some(first) = seen.insert(folded(mesh), mesh) {
-            return Err(BatchError::DuplicateName {
+            return Err(CliError::DuplicateName {
                 first: first.clone(),
                 second: mesh.clone(),
             });
@@ -484,14 +429,9 @@ fn print_outcome(rows: &[Row], summary: &Path) {
 }
 
 /// Publishes the summary `name` in `--out`.
-fn write_summary_file(
-    out: &Path,
-    name: &str,
-    rows: &[Row],
-    k: usize,
-) -> Result<PathBuf, BatchError> {
+fn write_summary_file(out: &Path, name: &str, rows: &[Row], k: usize) -> Result<PathBuf, CliError> {
     let path = out.join(name);
-    publish(&path, |w| write_summary(rows, k, w)).map_err(|source| BatchError::Output {
+    publish(&path, |w| write_summary(rows, k, w)).map_err(|source| CliError::Io {
         path: path.clone(),
         source,
     })?;
@@ -499,7 +439,7 @@ fn write_summary_file(
 }
 
 /// `--merge`: the shards' rows, each complete one checked against this run's settings.
-fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, BatchError> {
+fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, CliError> {
     let (mut rows, missing_parts) = merge::merge(meshes, &job.args.out)?;
     if !missing_parts.is_empty() {
         eprintln!(
@@ -528,15 +468,12 @@ fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, BatchError> {
     Ok(rows)
 }
 
-/// Runs `dirac batch`: exit code 0 when every mesh is complete (computed now or earlier), 4
-/// when some mesh failed or did not converge, 130 when interrupted.
-pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
-    let options = args
-        .solve
-        .options("batch")
-        .unwrap_or_else(|error| error.exit());
+/// Runs `dirac batch`: `Ok` when every mesh is complete (computed now or earlier),
+/// [`CliError::SomeFailed`] when some mesh is not, [`CliError::Interrupted`] after Ctrl-C.
+pub fn run(args: &BatchArgs) -> Result<(), CliError> {
+    let options = args.solve.options();
     let all = inputs(&args.input)?;
-    fs::create_dir_all(&args.out).map_err(|source| BatchError::Output {
+    fs::create_dir_all(&args.out).map_err(|source| CliError::Io {
         path: args.out.clone(),
         source,
     })?;
@@ -565,7 +502,7 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(jobs)
             .build()
-            .map_err(|error| BatchError::Threads {
+            .map_err(|error| CliError::Threads {
                 jobs,
                 message: error.to_string(),
             })?;
@@ -593,15 +530,18 @@ pub fn run(args: &BatchArgs) -> Result<ExitCode, BatchError> {
 
     let summary = write_summary_file(&args.out, &summary_name, &rows, job.options.k)?;
     print_outcome(&rows, &summary);
-    Ok(
-        if rows.iter().any(|row| row.status == Status::Interrupted) {
-            ExitCode::from(INTERRUPTED)
-        } else if rows.iter().all(|row| row.status.is_complete()) {
-            ExitCode::SUCCESS
-        } else {
-            ExitCode::from(SOME_FAILED)
-        },
-    )
+    let incomplete = rows.iter().filter(|row| !row.status.is_complete()).count();
+    if rows.iter().any(|row| row.status == Status::Interrupted) {
+        Err(CliError::Interrupted { summary })
+    } else if incomplete > 0 {
+        Err(CliError::SomeFailed {
+            failed: incomplete,
+            meshes: rows.len(),
+            summary,
+        })
+    } else {
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -636,7 +576,7 @@ mod tests {
         fs::write(&list, "a/Bunny.OBJ\nb/bunny.obj\n").unwrap();
         let error = inputs(&list).unwrap_err();
         let _ = fs::remove_dir_all(&dir);
-        assert!(matches!(error, BatchError::DuplicateName { .. }), "{error}");
+        assert!(matches!(error, CliError::DuplicateName { .. }), "{error}");
         assert!(error.to_string().contains("Bunny.OBJ"), "{error}");
     }
 }

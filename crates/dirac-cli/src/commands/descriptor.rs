@@ -16,7 +16,6 @@
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use clap::error::ErrorKind;
 use clap::{Args, ValueEnum};
@@ -26,10 +25,12 @@ use dirac::descriptors::{
 };
 use dirac::spectrum::Spectrum;
 use ndarray::Array2;
-use thiserror::Error;
 
-use crate::args::{SolveArgs, finite, positive_count, positive_real, usage_error, value_name};
-use crate::commands::{ComputeError, NpyError, has_extension, load_mesh, solve, write_array};
+use crate::common::error::CliError;
+use crate::common::files::{has_extension, write_array};
+use crate::common::parsers::{finite, positive_count, positive_real, value_name};
+use crate::common::solve::{load_mesh, solve};
+use crate::common::solve_args::SolveArgs;
 
 /// Exit codes and examples shown by `dirac descriptor --help`.
 pub const AFTER_HELP: &str = "\
@@ -109,25 +110,6 @@ pub enum DescriptorKind {
     Eigvec,
 }
 
-/// Why `dirac descriptor` failed (exit code 1).
-#[derive(Debug, Error)]
-pub enum DescriptorCommandError {
-    /// The mesh cannot be read, or its spectrum or the descriptor cannot be computed.
-    #[error(transparent)]
-    Compute(#[from] ComputeError),
-    /// The CSV file cannot be written.
-    #[error("{}: {source}", path.display())]
-    Csv {
-        /// The file.
-        path: PathBuf,
-        /// What failed.
-        source: io::Error,
-    },
-    /// The `.npy` file cannot be written (the message names the file).
-    #[error(transparent)]
-    Npy(#[from] NpyError),
-}
-
 /// A computed table: column names and row-major values.
 struct Table {
     header: Vec<String>,
@@ -135,8 +117,8 @@ struct Table {
 }
 
 /// Checks the options clap cannot relate (usage errors, exit code 2).
-fn check(args: &DescriptorArgs) -> Result<(), clap::Error> {
-    let error = |kind, message: String| Err(usage_error("descriptor", kind, message));
+fn check(args: &DescriptorArgs) -> Result<(), CliError> {
+    let error = |kind, message: String| Err(CliError::usage(kind, message));
     let kind = value_name(&args.kind);
     let kernel = matches!(args.kind, DescriptorKind::Hks | DescriptorKind::Dks);
     if args.times.is_some() && !kernel {
@@ -229,28 +211,27 @@ fn write_csv(table: &Table, out: &mut impl Write) -> io::Result<()> {
     out.flush()
 }
 
-/// Runs `dirac descriptor`: exit code 0, or 3 when the eigensolver did not converge (the
-/// descriptor of the converged pairs is written).
-pub fn run(args: &DescriptorArgs) -> Result<ExitCode, DescriptorCommandError> {
-    let mut options = args
-        .solve
-        .options("descriptor")
-        .unwrap_or_else(|error| error.exit());
-    check(args).unwrap_or_else(|error| error.exit());
+/// Runs `dirac descriptor`: writes the table, then fails with [`CliError::NotConverged`] (exit
+/// code 3) when the eigensolver did not converge (the descriptor of the converged pairs is
+/// written).
+pub fn run(args: &DescriptorArgs) -> Result<(), CliError> {
+    let mut options = args.solve.options();
+    check(args)?;
     if args.kind == DescriptorKind::Hks {
         args.solve.use_laplacian(&mut options, "hks");
     }
     let (mesh, name) = load_mesh(args.mesh.as_deref())?;
     let solved = solve(&mesh, &name, &options, args.quiet)?;
-    let code = solved.exit_code(&name, options.k, "writing the descriptor of those");
-    let table = table(args, &solved.spectrum)
-        .map_err(|source| ComputeError::Descriptor { mesh: name, source })?;
+    let table = table(args, &solved.spectrum).map_err(|source| CliError::Descriptor {
+        mesh: name.clone(),
+        source,
+    })?;
 
     let path = &args.out;
     if has_extension(path, "csv") {
         File::create(path)
             .and_then(|file| write_csv(&table, &mut BufWriter::new(file)))
-            .map_err(|source| DescriptorCommandError::Csv {
+            .map_err(|source| CliError::Io {
                 path: path.clone(),
                 source,
             })?;
@@ -260,5 +241,5 @@ pub fn run(args: &DescriptorArgs) -> Result<ExitCode, DescriptorCommandError> {
             Array2::from_shape_vec(shape, table.values).expect("one value per vertex and column");
         write_array(path, &array)?;
     }
-    Ok(code)
+    solved.check_converged(&name, options.k, "writing the descriptor of those")
 }

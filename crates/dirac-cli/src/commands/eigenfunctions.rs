@@ -13,17 +13,17 @@
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use clap::Args;
 use clap::error::ErrorKind;
-use dirac::io::{PlyWriteOptions, WriteError, write_ply};
+use dirac::io::{PlyWriteOptions, write_ply};
 use dirac::spectrum::Spectrum;
 use ndarray::{Array1, Array3};
-use thiserror::Error;
 
-use crate::args::{SolveArgs, usage_error};
-use crate::commands::{ComputeError, NpyError, has_extension, load_mesh, solve, write_array};
+use crate::common::error::CliError;
+use crate::common::files::{has_extension, write_array};
+use crate::common::solve::{load_mesh, solve};
+use crate::common::solve_args::SolveArgs;
 
 /// Exit codes and examples shown by `dirac eigenfunctions --help`.
 pub const AFTER_HELP: &str = "\
@@ -68,23 +68,6 @@ pub struct EigenfunctionsArgs {
     pub quiet: bool,
 }
 
-/// Why `dirac eigenfunctions` failed (exit code 1).
-#[derive(Debug, Error)]
-pub enum EigenfunctionsError {
-    /// The mesh cannot be read or its spectrum cannot be computed.
-    #[error(transparent)]
-    Compute(#[from] ComputeError),
-    /// An `.npy` file cannot be written (the message names the file).
-    #[error(transparent)]
-    Npy(#[from] NpyError),
-    /// The `.ply` file cannot be written (the message names the file).
-    #[error(transparent)]
-    Ply(#[from] WriteError),
-    /// Printing the names of the written files failed.
-    #[error("cannot print the result: {0}")]
-    Stdout(#[from] io::Error),
-}
-
 /// What `--out` asks for.
 enum Output {
     /// The two `.npy` files.
@@ -103,13 +86,12 @@ fn npy_sibling(path: &Path, suffix: &str) -> PathBuf {
 
 /// Reads `--out` and `--mode`; usage errors (exit code 2) for an unknown extension, `--mode`
 /// with `.npy` output, or a mode beyond `k`.
-fn output(args: &EigenfunctionsArgs) -> Result<Output, clap::Error> {
-    let error = |kind, message: String| usage_error("eigenfunctions", kind, message);
+fn output(args: &EigenfunctionsArgs) -> Result<Output, CliError> {
     if has_extension(&args.out, "npy") {
         if args.mode.is_some() {
-            return Err(error(
+            return Err(CliError::usage(
                 ErrorKind::ArgumentConflict,
-                "--mode applies only to .ply output (.npy holds every eigenvector)".into(),
+                "--mode applies only to .ply output (.npy holds every eigenvector)",
             ));
         }
         Ok(Output::Npy {
@@ -119,7 +101,7 @@ fn output(args: &EigenfunctionsArgs) -> Result<Output, clap::Error> {
     } else if has_extension(&args.out, "ply") {
         let mode = args.mode.unwrap_or(0);
         if mode >= args.solve.k {
-            return Err(error(
+            return Err(CliError::usage(
                 ErrorKind::ValueValidation,
                 format!(
                     "--mode {mode} is not among the k = {} eigenvectors (0-based)",
@@ -132,7 +114,7 @@ fn output(args: &EigenfunctionsArgs) -> Result<Output, clap::Error> {
             mode,
         })
     } else {
-        Err(error(
+        Err(CliError::usage(
             ErrorKind::ValueValidation,
             format!(
                 "--out {}: expected a .npy or .ply file name",
@@ -150,22 +132,18 @@ fn eigenvector_array(spectrum: &Spectrum, vertices: usize) -> Array3<f64> {
     })
 }
 
-/// Runs `dirac eigenfunctions`: exit code 0, or 3 when the eigensolver did not converge (the
-/// converged pairs are written; for `.ply` only if mode `I` is among them).
-pub fn run(args: &EigenfunctionsArgs) -> Result<ExitCode, EigenfunctionsError> {
-    let options = args
-        .solve
-        .options("eigenfunctions")
-        .unwrap_or_else(|error| error.exit());
-    let output = output(args).unwrap_or_else(|error| error.exit());
+/// Runs `dirac eigenfunctions`: writes the pairs, then fails with [`CliError::NotConverged`]
+/// (exit code 3) when the eigensolver did not converge (the converged pairs are written; for
+/// `.ply` only if mode `I` is among them).
+pub fn run(args: &EigenfunctionsArgs) -> Result<(), CliError> {
+    let options = args.solve.options();
+    let output = output(args)?;
     let (mesh, name) = load_mesh(args.mesh.as_deref())?;
     let solved = solve(&mesh, &name, &options, args.quiet)?;
-    let code = solved.exit_code(&name, options.k, "writing those");
     let spectrum = &solved.spectrum;
     let converged = spectrum.eigenvalues.len();
 
-    let mut out = io::stdout().lock();
-    match output {
+    let doing = match output {
         Output::Npy {
             eigenvalues,
             eigenvectors,
@@ -173,33 +151,43 @@ pub fn run(args: &EigenfunctionsArgs) -> Result<ExitCode, EigenfunctionsError> {
             let vectors = eigenvector_array(spectrum, mesh.vertex_count());
             write_array(&eigenvalues, &Array1::from(spectrum.eigenvalues.clone()))?;
             write_array(&eigenvectors, &vectors)?;
-            writeln!(out, "{} ({converged})", eigenvalues.display())?;
-            writeln!(
-                out,
-                "{} ({} × {converged} × 4)",
-                eigenvectors.display(),
-                mesh.vertex_count()
-            )?;
+            print_lines(&[
+                format!("{} ({converged})", eigenvalues.display()),
+                format!(
+                    "{} ({} × {converged} × 4)",
+                    eigenvectors.display(),
+                    mesh.vertex_count()
+                ),
+            ])?;
+            "writing those".to_string()
         }
-        Output::Ply { path, mode } => {
-            let Some(phi) = spectrum.eigenvectors.get(mode) else {
-                eprintln!("error: {name}: mode {mode} did not converge; nothing written");
-                return Ok(code);
-            };
-            let magnitudes: Vec<f64> = phi.iter().map(|q| q.norm()).collect();
-            let ply_options = PlyWriteOptions {
-                scalar: Some(("phi_abs", &magnitudes)),
-                ..PlyWriteOptions::default()
-            };
-            write_ply(&mesh, &path, &ply_options)?;
-            writeln!(
-                out,
-                "{} (|phi_{mode}|, eigenvalue {})",
-                path.display(),
-                spectrum.eigenvalues[mode]
-            )?;
-        }
-    }
-    out.flush()?;
-    Ok(code)
+        Output::Ply { path, mode } => match spectrum.eigenvectors.get(mode) {
+            None => format!("mode {mode} is not among them, nothing written"),
+            Some(phi) => {
+                let magnitudes: Vec<f64> = phi.iter().map(|q| q.norm()).collect();
+                let ply_options = PlyWriteOptions {
+                    scalar: Some(("phi_abs", &magnitudes)),
+                    ..PlyWriteOptions::default()
+                };
+                write_ply(&mesh, &path, &ply_options)?;
+                print_lines(&[format!(
+                    "{} (|phi_{mode}|, eigenvalue {})",
+                    path.display(),
+                    spectrum.eigenvalues[mode]
+                )])?;
+                format!("writing mode {mode}")
+            }
+        },
+    };
+    solved.check_converged(&name, options.k, &doing)
+}
+
+/// Prints the names of the written files on stdout.
+fn print_lines(lines: &[String]) -> Result<(), CliError> {
+    let mut out = io::stdout().lock();
+    lines
+        .iter()
+        .try_for_each(|line| writeln!(out, "{line}"))
+        .and_then(|()| out.flush())
+        .map_err(CliError::Stdout)
 }

@@ -1,28 +1,25 @@
 //! `dirac plot`: charts. `dirac plot spectra` draws the spectra of several meshes and/or
 //! several operators in one chart, one line per (mesh, operator) pair.
 
-use std::path::PathBuf;
-use std::process::ExitCode;
+use std::path::{Path, PathBuf};
 
-use clap::builder::PossibleValue;
-use clap::{Args, Subcommand, ValueEnum};
+use clap::{Args, Subcommand};
+use dirac::spectrum::Operator;
 use dirac_cli::plot::{Series, plot_spectra};
 
-use crate::args::{OperatorArg, SolveArgs, unit_interval, value_name};
-use crate::commands::render::{
-    CommandError, exit_code, picture_exit_codes, picture_path, solve_converged,
-};
-use crate::commands::{load_mesh, tell};
+use crate::common::error::{CliError, PICTURE_EXIT_CODES};
+use crate::common::files::tell;
+use crate::common::parsers::picture_path;
+use crate::common::solve::{load_mesh, solve_converged};
+use crate::common::solve_args::SolveArgs;
 
-const SPECTRA_HELP: &str = concat!(
-    picture_exit_codes!(),
-    "
+/// What `dirac plot spectra --help` shows after the exit codes.
+const SPECTRA_HELP: &str = "
 Several meshes give one line each; `--operators` gives one line per operator (on every mesh).
 
 Examples:
   dirac plot spectra torus-bumps.obj torus-noise.obj -k 30 --out tori.svg
-  dirac plot spectra --operators laplace,relative-dirac,family:0.5 -k 20 --out spot.png"
-);
+  dirac plot spectra --operators laplace,relative-dirac,family:0.5 -k 20 --out spot.png";
 
 /// Arguments of `dirac plot`.
 #[derive(Debug, Args)]
@@ -36,7 +33,7 @@ pub struct PlotArgs {
 #[derive(Debug, Subcommand)]
 pub enum PlotCommand {
     /// Eigenvalue index against eigenvalue for several meshes and/or operators in one chart.
-    #[command(after_help = SPECTRA_HELP)]
+    #[command(after_help = format!("{PICTURE_EXIT_CODES}{SPECTRA_HELP}"))]
     Spectra(SpectraArgs),
 }
 
@@ -51,11 +48,14 @@ pub struct SpectraArgs {
     pub solve: SolveArgs,
 
     /// Several operators, comma-separated, each drawn on every mesh, e.g.
-    /// `laplace,relative-dirac,family:0.5` (the family operators take `:TAU`); replaces
-    /// --operator and --tau.
-    #[arg(long, value_name = "LIST", value_delimiter = ',', value_parser = parse_operator,
-          conflicts_with_all = ["operator", "tau"])]
-    pub operators: Vec<OperatorChoice>,
+    /// `laplace,relative-dirac,family:0.5` (written as for --operator, which this replaces).
+    #[arg(
+        long,
+        value_name = "LIST",
+        value_delimiter = ',',
+        conflicts_with = "operator"
+    )]
+    pub operators: Vec<Operator>,
 
     /// The picture to write: .png or .svg.
     #[arg(short, long, value_name = "FILE", value_parser = picture_path(&["png", "svg"]))]
@@ -70,75 +70,24 @@ pub struct SpectraArgs {
     pub quiet: bool,
 }
 
-/// One entry of `--operators`: an operator and, for the family, its τ.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct OperatorChoice {
-    /// The operator.
-    pub operator: OperatorArg,
-    /// τ for the family operators.
-    pub tau: Option<f64>,
-}
-
-impl OperatorChoice {
-    /// `relative-dirac`, `family τ=0.5`.
-    fn label(&self) -> String {
-        match self.tau {
-            Some(tau) => format!("{} τ={tau}", value_name(&self.operator)),
-            None => value_name(&self.operator),
-        }
-    }
-}
-
-/// Value parser of `--operators` entries: `NAME` or `NAME:TAU`.
-fn parse_operator(text: &str) -> Result<OperatorChoice, String> {
-    let (name, tau) = match text.split_once(':') {
-        Some((name, tau)) => (name, Some(unit_interval(tau)?)),
-        None => (text, None),
-    };
-    let operator = OperatorArg::from_str(name.trim(), true).map_err(|_| {
-        let names: Vec<String> = OperatorArg::value_variants()
-            .iter()
-            .filter_map(|v| {
-                v.to_possible_value()
-                    .as_ref()
-                    .map(PossibleValue::get_name)
-                    .map(str::to_string)
-            })
-            .collect();
-        format!("`{name}` is not an operator (one of {})", names.join(", "))
-    })?;
-    Ok(OperatorChoice { operator, tau })
-}
-
 /// Runs `dirac plot`.
-pub fn run(args: &PlotArgs) -> Result<ExitCode, CommandError> {
+pub fn run(args: &PlotArgs) -> Result<(), CliError> {
     match &args.chart {
-        PlotCommand::Spectra(spectra) => exit_code(plot(spectra)),
+        PlotCommand::Spectra(spectra) => plot(spectra),
     }
 }
 
-fn plot(args: &SpectraArgs) -> Result<(), CommandError> {
+fn plot(args: &SpectraArgs) -> Result<(), CliError> {
     let choices = if args.operators.is_empty() {
-        vec![OperatorChoice {
-            operator: args.solve.operator,
-            tau: args.solve.tau,
-        }]
+        vec![args.solve.operator]
     } else {
         args.operators.clone()
     };
-    // Every operator's options first, so a usage error comes before any solve.
     let options: Vec<_> = choices
         .iter()
-        .map(|choice| {
-            let solve = SolveArgs {
-                operator: choice.operator,
-                tau: choice.tau,
-                ..args.solve.clone()
-            };
-            solve.options("plot").unwrap_or_else(|error| error.exit())
-        })
+        .map(|&operator| args.solve.options_with(operator))
         .collect();
-    let paths: Vec<Option<&std::path::Path>> = if args.meshes.is_empty() {
+    let paths: Vec<Option<&Path>> = if args.meshes.is_empty() {
         vec![None]
     } else {
         args.meshes.iter().map(|p| Some(p.as_path())).collect()
@@ -156,9 +105,9 @@ fn plot(args: &SpectraArgs) -> Result<(), CommandError> {
             let spectrum = solve_converged(&mesh, &name, options, args.quiet)?;
             // Label by what varies: the mesh, the operator, or both.
             let label = match (args.meshes.len() > 1, choices.len() > 1) {
-                (true, true) => format!("{name}, {}", choice.label()),
+                (true, true) => format!("{name}, {choice}"),
                 (true, false) => name.clone(),
-                (false, _) => choice.label(),
+                (false, _) => choice.to_string(),
             };
             series.push(Series {
                 label,
@@ -171,7 +120,7 @@ fn plot(args: &SpectraArgs) -> Result<(), CommandError> {
     let title = args.title.clone().unwrap_or_else(|| {
         let mut title = "eigenvalues of smallest |λ|".to_string();
         if let [choice] = choices.as_slice() {
-            title += &format!(" of {}", choice.label());
+            title += &format!(" of {choice}");
         }
         if let [name] = mesh_names.as_slice() {
             title += &format!(" on {name}");
@@ -187,34 +136,4 @@ fn plot(args: &SpectraArgs) -> Result<(), CommandError> {
         ));
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn operator_lists_parse() {
-        assert_eq!(
-            parse_operator("family:0.5"),
-            Ok(OperatorChoice {
-                operator: OperatorArg::Family,
-                tau: Some(0.5)
-            })
-        );
-        assert_eq!(
-            parse_operator("Laplace").map(|c| c.operator),
-            Ok(OperatorArg::Laplace)
-        );
-        assert!(
-            parse_operator("dirac")
-                .expect_err("unknown")
-                .contains("relative-dirac")
-        );
-        assert!(
-            parse_operator("family:2")
-                .expect_err("tau")
-                .contains("outside")
-        );
-    }
 }

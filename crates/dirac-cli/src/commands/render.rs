@@ -1,48 +1,29 @@
 //! `dirac render`: a picture of eigenfunction magnitudes `|φ_I|`, of a kernel signature (HKS,
-//! DKS, WKS from [`dirac::descriptors`]) or of the potential well `U` on the mesh. Also what
-//! `dirac plot` shares: the errors and exit codes of the picture commands and a solve that must
-//! converge.
+//! DKS, WKS from [`dirac::descriptors`]) or of the potential well `U` on the mesh.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use clap::error::ErrorKind;
 use clap::{Args, ValueEnum};
+use dirac::TriMesh;
 use dirac::descriptors::{
     DescriptorError, Modes, WaveSampling, default_times, default_wave_sampling,
     dirac_kernel_signature, heat_kernel_signature, wave_kernel_signature,
 };
-use dirac::spectrum::{Normalization, Spectrum, SpectrumOptions};
-use dirac::well::{PotentialWell, WellError};
-use dirac::{MeshError, TriMesh};
-use dirac_cli::plot::PlotError;
-use dirac_cli::render::{
-    Field, MAX_SIDE, Projection, RenderError, RenderOptions, View, format_value, render_png,
+use dirac::spectrum::{Normalization, Spectrum};
+use dirac::well::PotentialWell;
+use dirac_cli::render::{Field, Projection, RenderOptions, View, format_value, render_png};
+
+use crate::common::error::{CliError, PICTURE_EXIT_CODES};
+use crate::common::files::tell;
+use crate::common::parsers::{
+    finite, parse_size, picture_path, positive_count, positive_real, value_name,
 };
-use thiserror::Error;
+use crate::common::solve::{load_mesh, solve_converged};
+use crate::common::solve_args::SolveArgs;
 
-use crate::args::{SolveArgs, finite, positive_count, positive_real, usage_error, value_name};
-use crate::commands::{ComputeError, NOT_CONVERGED, load_mesh, solve, tell};
-
-/// Exit codes of `dirac render` and `dirac plot` (a macro, so `concat!` can join it with each
-/// command's examples).
-macro_rules! picture_exit_codes {
-    () => {
-        "\
-Exit codes:
-  0  success
-  1  a mesh cannot be read or is invalid, a spectrum, descriptor or the potential cannot be
-     computed, or the picture cannot be written (the message names the file and the problem)
-  2  usage error (bad or missing arguments)
-  3  the eigensolver did not converge
-"
-    };
-}
-pub(crate) use picture_exit_codes;
-
-const AFTER_HELP: &str = concat!(
-    picture_exit_codes!(),
-    "
+/// What `dirac render --help` shows after the exit codes.
+const QUANTITIES_AND_EXAMPLES: &str = "
 Quantities (φ mass-normalised, |φ|² = w² + x² + y² + z²; see `dirac descriptor --help`):
   eigenfunction  |φ_I| of --operator                    --mode I, --grid N: modes I … I+N−1
   hks            Σ e^{−tλ} |φ|² of the Laplacian       --time T, --grid N: N default times
@@ -55,15 +36,14 @@ geometric mean of the default times, the mean of the default energies).
 Examples:
   dirac render --mode 3 --out spot-mode3.png            # |φ_3| of D_N on the built-in spot
   dirac render bunny.obj --operator laplace --grid 4 --size 1000x300 --out bunny.png
-  dirac render --operator family --tau 0.5 --mode 1 --view -60,10 --out side.png
+  dirac render --operator family:0.5 --mode 1 --view -60,10 --out side.png
   dirac render --quantity dks -k 50 --grid 3 --size 900x300 --out dks.png
   dirac render --quantity hks -k 50 --time 0.5 --out hks.png
-  dirac render --quantity potential --normalize unit-area --well-radius 0.3 --out well.png"
-);
+  dirac render --quantity potential --normalize unit-area --well-radius 0.3 --out well.png";
 
 /// Arguments of `dirac render`.
 #[derive(Debug, Args)]
-#[command(after_help = AFTER_HELP)]
+#[command(after_help = format!("{PICTURE_EXIT_CODES}{QUANTITIES_AND_EXAMPLES}"))]
 pub struct RenderArgs {
     /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
@@ -134,86 +114,6 @@ pub enum Quantity {
     Wks,
 }
 
-/// Why `dirac render` or `dirac plot` failed.
-#[derive(Debug, Error)]
-pub enum CommandError {
-    /// A mesh cannot be read, or its spectrum or a descriptor cannot be computed.
-    #[error(transparent)]
-    Compute(#[from] ComputeError),
-    /// The eigensolver stopped before all wanted pairs converged (exit code 3).
-    #[error(
-        "{mesh}: the eigensolver converged only {converged} of {wanted} eigenpairs \
-         (try a larger --tolerance, more --max-restarts or another --seed)"
-    )]
-    NotConverged {
-        /// The mesh.
-        mesh: String,
-        /// Pairs that converged.
-        converged: usize,
-        /// Pairs wanted.
-        wanted: usize,
-    },
-    /// The potential well cannot be computed on this mesh.
-    #[error("{mesh}: potential well: {source}")]
-    Well {
-        /// The mesh.
-        mesh: String,
-        /// What failed.
-        source: WellError,
-    },
-    /// Normalising the mesh failed.
-    #[error("{mesh}: {source}")]
-    Normalize {
-        /// The mesh.
-        mesh: String,
-        /// What failed.
-        source: MeshError,
-    },
-    /// The picture cannot be drawn or written (the message names the file).
-    #[error(transparent)]
-    Render(#[from] RenderError),
-    /// The chart cannot be drawn or written (the message names the file).
-    #[error(transparent)]
-    Plot(#[from] PlotError),
-}
-
-/// The exit code of a picture command: success, or 3 after reporting a solve that did not
-/// converge; other errors are returned for `main` to report (exit code 1).
-pub fn exit_code(outcome: Result<(), CommandError>) -> Result<ExitCode, CommandError> {
-    match outcome {
-        Ok(()) => Ok(ExitCode::SUCCESS),
-        Err(error @ CommandError::NotConverged { .. }) => {
-            eprintln!("error: {error}");
-            Ok(ExitCode::from(NOT_CONVERGED))
-        }
-        Err(error) => Err(error),
-    }
-}
-
-/// The spectrum of `mesh` (called `name` in messages) with the progress display; a solve that
-/// stops early is an error here, since a picture of some other mode would mislead.
-pub fn solve_converged(
-    mesh: &TriMesh,
-    name: &str,
-    options: &SpectrumOptions,
-    quiet: bool,
-) -> Result<Spectrum, CommandError> {
-    let solved = solve(mesh, name, options, quiet)?;
-    if !solved.converged {
-        return Err(CommandError::NotConverged {
-            mesh: name.to_string(),
-            converged: solved.spectrum.eigenvalues.len(),
-            wanted: options.k,
-        });
-    }
-    Ok(solved.spectrum)
-}
-
-/// Runs `dirac render`.
-pub fn run(args: &RenderArgs) -> Result<ExitCode, CommandError> {
-    exit_code(render(args))
-}
-
 /// What the panels show, from `--quantity` and the options that go with it.
 #[derive(Debug, Clone, Copy)]
 enum Shading {
@@ -227,8 +127,8 @@ enum Shading {
 
 /// Checks the combinations of options that clap cannot express (usage errors, exit code 2)
 /// and says what to draw; `well` is the potential well of the solver options.
-fn shading(args: &RenderArgs, well: Option<PotentialWell>) -> Result<Shading, clap::Error> {
-    let error = |kind, message: String| Err(usage_error("render", kind, message));
+fn shading(args: &RenderArgs, well: Option<PotentialWell>) -> Result<Shading, CliError> {
+    let error = |kind, message: String| Err(CliError::usage(kind, message));
     let quantity = value_name(&args.quantity);
     if args.mode.is_some() && args.quantity != Quantity::Eigenfunction {
         return error(
@@ -272,12 +172,11 @@ fn shading(args: &RenderArgs, well: Option<PotentialWell>) -> Result<Shading, cl
     }
 }
 
-fn render(args: &RenderArgs) -> Result<(), CommandError> {
-    let mut options = args
-        .solve
-        .options("render")
-        .unwrap_or_else(|error| error.exit());
-    let shading = shading(args, options.well).unwrap_or_else(|error| error.exit());
+/// Runs `dirac render`: writes the picture, or fails (a solve that did not converge draws
+/// nothing: [`CliError::NotConverged`], exit code 3).
+pub fn run(args: &RenderArgs) -> Result<(), CliError> {
+    let mut options = args.solve.options();
+    let shading = shading(args, options.well)?;
     let count = args.grid.unwrap_or(1);
     let (mesh, name) = load_mesh(args.mesh.as_deref())?;
 
@@ -286,16 +185,14 @@ fn render(args: &RenderArgs) -> Result<(), CommandError> {
         Shading::Modes(first) => {
             let wanted = first.saturating_add(count);
             if wanted > mesh.vertex_count() {
-                usage_error(
-                    "render",
+                return Err(CliError::usage(
                     ErrorKind::ValueValidation,
                     format!(
                         "--mode {first} with {count} panel(s) needs {wanted} eigenpairs, but \
                          {name} has only {} vertices",
                         mesh.vertex_count()
                     ),
-                )
-                .exit();
+                ));
             }
             options.k = options.k.max(wanted);
             let spectrum = solve_converged(&mesh, &name, &options, args.quiet)?;
@@ -316,7 +213,7 @@ fn render(args: &RenderArgs) -> Result<(), CommandError> {
             }
             let spectrum = solve_converged(&mesh, &name, &options, args.quiet)?;
             signature_fields(kernel, at, count, &spectrum).map_err(|source| {
-                ComputeError::Descriptor {
+                CliError::Descriptor {
                     mesh: name.clone(),
                     source,
                 }
@@ -339,7 +236,7 @@ fn render(args: &RenderArgs) -> Result<(), CommandError> {
     };
     render_png(&mesh, &fields, &render_options, &args.out)?;
     if !args.quiet {
-        let operator = value_name(&args.solve.operator);
+        let operator = args.solve.operator;
         let what = match shading {
             Shading::Potential(_) => "the potential".to_string(),
             Shading::Modes(_) => format!("{count} eigenfunction(s) of {operator}"),
@@ -411,14 +308,14 @@ fn potential(
     name: &str,
     well: PotentialWell,
     normalization: Normalization,
-) -> Result<Field, CommandError> {
+) -> Result<Field, CliError> {
     let scaled = match normalization {
         Normalization::None => None,
         Normalization::UnitArea => {
             let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
             Some(
                 mesh.scaled(1.0 / area.sqrt())
-                    .map_err(|source| CommandError::Normalize {
+                    .map_err(|source| CliError::Normalize {
                         mesh: name.to_string(),
                         source,
                     })?,
@@ -427,7 +324,7 @@ fn potential(
     };
     let values = well
         .potential(scaled.as_ref().unwrap_or(mesh))
-        .map_err(|source| CommandError::Well {
+        .map_err(|source| CliError::Well {
             mesh: name.to_string(),
             source,
         })?;
@@ -445,73 +342,9 @@ fn subscript(i: usize) -> String {
         .collect()
 }
 
-/// Value parser of `--size`: `WIDTHxHEIGHT`, both sides positive and at most [`MAX_SIDE`].
-pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
-    let error = || format!("`{text}` is not a size WIDTHxHEIGHT in pixels (for example 800x600)");
-    let (width, height) = text.split_once(['x', 'X']).ok_or_else(error)?;
-    let side = |s: &str| s.trim().parse::<u32>().map_err(|_| error());
-    let (width, height) = (side(width)?, side(height)?);
-    if width == 0 || height == 0 {
-        return Err(format!("size {text}: width and height must be positive"));
-    }
-    if width > MAX_SIDE || height > MAX_SIDE {
-        return Err(format!(
-            "size {text}: the largest side allowed is {MAX_SIDE} pixels"
-        ));
-    }
-    Ok((width, height))
-}
-
-/// A value parser of output files that accepts the given extensions (any case), so a wrong
-/// one is a usage error before any work is done.
-pub fn picture_path(
-    extensions: &'static [&'static str],
-) -> impl Fn(&str) -> Result<PathBuf, String> + Clone {
-    move |text: &str| {
-        let path = PathBuf::from(text);
-        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if extensions.iter().any(|e| e.eq_ignore_ascii_case(extension)) {
-            Ok(path)
-        } else {
-            Err(format!(
-                "{text}: the file name must end in .{}",
-                extensions.join(" or .")
-            ))
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sizes_parse_and_bad_ones_are_explained() {
-        assert_eq!(parse_size("800x600"), Ok((800, 600)));
-        assert_eq!(parse_size("64X48"), Ok((64, 48)));
-        for bad in ["800", "800x", "x600", "-5x5", "axb", "800x600x2"] {
-            let message = parse_size(bad).expect_err(bad);
-            assert!(message.contains("WIDTHxHEIGHT"), "{bad}: {message}");
-        }
-        assert!(parse_size("0x10").expect_err("zero").contains("positive"));
-        assert!(
-            parse_size("99999x10")
-                .expect_err("huge")
-                .contains("largest")
-        );
-    }
-
-    #[test]
-    fn picture_paths_need_a_known_extension() {
-        let parse = picture_path(&["png", "svg"]);
-        assert_eq!(parse("a/b.SVG"), Ok(PathBuf::from("a/b.SVG")));
-        assert!(
-            parse("chart.gif")
-                .expect_err("gif")
-                .contains("chart.gif: the file name must end in .png or .svg")
-        );
-        assert!(parse("chart").is_err());
-    }
 
     #[test]
     fn subscripts() {

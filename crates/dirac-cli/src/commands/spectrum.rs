@@ -2,15 +2,14 @@
 
 use std::io::{self, Write};
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use thiserror::Error;
 
-use crate::args::SolveArgs;
-use crate::commands::{ComputeError, load_mesh, solve};
-use crate::output::{Report, RunSettings, write_human, write_json};
+use crate::common::error::CliError;
+use crate::common::report::{Report, RunSettings, write_human, write_json};
+use crate::common::solve::{load_mesh, solve};
+use crate::common::solve_args::SolveArgs;
 
 /// Arguments of `dirac spectrum`.
 #[derive(Debug, Args)]
@@ -31,24 +30,10 @@ pub struct SpectrumArgs {
     pub quiet: bool,
 }
 
-/// Why `dirac spectrum` failed (exit code 1).
-#[derive(Debug, Error)]
-pub enum CommandError {
-    /// The mesh cannot be read or its spectrum cannot be computed.
-    #[error(transparent)]
-    Compute(#[from] ComputeError),
-    /// Writing the result failed.
-    #[error("cannot write the result: {0}")]
-    Output(#[from] io::Error),
-}
-
-/// Runs `dirac spectrum`; returns the exit code to use after printing the result (0, 2 for a
-/// usage error clap cannot detect, or 3 when the eigensolver did not converge).
-pub fn run(args: &SpectrumArgs) -> Result<ExitCode, CommandError> {
-    let options = args
-        .solve
-        .options("spectrum")
-        .unwrap_or_else(|error| error.exit());
+/// Runs `dirac spectrum`: prints the report, then fails with [`CliError::NotConverged`] (exit
+/// code 3) when the eigensolver did not converge (the report holds what did).
+pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
+    let options = args.solve.options();
     let start = Instant::now();
     let (mesh, name) = load_mesh(args.mesh.as_deref())?;
     let load_time = start.elapsed();
@@ -63,14 +48,14 @@ pub fn run(args: &SpectrumArgs) -> Result<ExitCode, CommandError> {
     let solved = solve(&mesh, &report.mesh, &options, args.quiet)?;
     report.set_spectrum(&solved.spectrum, solved.elapsed);
     report.converged = solved.converged;
-    let code = solved.exit_code(&report.mesh, options.k, "printing those");
 
     let mut out = io::stdout().lock();
     if args.json {
-        write_json(&report, &mut out)?;
+        write_json(&report, &mut out)
     } else {
-        write_human(&report, &mut out)?;
+        write_human(&report, &mut out)
     }
-    out.flush()?;
-    Ok(code)
+    .and_then(|()| out.flush())
+    .map_err(CliError::Stdout)?;
+    solved.check_converged(&report.mesh, options.k, "printing those")
 }

@@ -122,7 +122,7 @@ _CLASSES: dict[str, type[Exception]] = {
 _OPTION_SPELLING = [
     ("--include-kernel", "include_kernel=True"),
     ("--flat-tolerance ", "flat_tolerance="),
-    ("--operator family --tau T", 'operator="family", tau=T'),
+    ("--operator family:T", 'operator="family", tau=T'),
     ("--normalize unit-area", 'normalize="unit-area"'),
 ]
 

@@ -46,6 +46,8 @@ mod pencil;
 mod solve;
 
 use std::borrow::Cow;
+use std::fmt;
+use std::str::FromStr;
 
 use qeig::{ProgressCallback, Statistics};
 use qscalar::Quat;
@@ -134,10 +136,127 @@ pub enum OperatorNameError {
     },
 }
 
+/// Why parsing an operator from its written form ([`Operator`]'s `FromStr`: `laplace`,
+/// `family:0.5`, …) failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum ParseOperatorError {
+    /// No operator has this name.
+    #[error("unknown operator {name:?}; expected one of {}", Operator::forms().join(", "))]
+    Unknown {
+        /// The name given (before any `:`).
+        name: String,
+    },
+    /// The family was written without its weight `τ`.
+    #[error(
+        "operator {name} needs its weight τ of D_N: {name}:T with T in [0, 1], e.g. {name}:0.5"
+    )]
+    MissingTau {
+        /// The operator's name.
+        name: &'static str,
+    },
+    /// An operator other than the family was written with a weight.
+    #[error("operator {name} takes no weight (only family:T and family-literal:T do)")]
+    UnexpectedTau {
+        /// The operator's name.
+        name: &'static str,
+    },
+    /// The weight after `:` is not a finite number.
+    #[error("{name}:{text}: the weight τ must be a finite number in [0, 1]")]
+    InvalidTau {
+        /// The operator's name.
+        name: &'static str,
+        /// The text after `:`.
+        text: String,
+    },
+    /// The weight is outside `[0, 1]`.
+    #[error("{name}:{tau}: the weight τ = {tau} is outside [0, 1]")]
+    TauOutOfRange {
+        /// The operator's name.
+        name: &'static str,
+        /// The weight given.
+        tau: f64,
+    },
+}
+
+/// `laplace`, `relative-dirac`, …, and for the family its weight after a colon: `family:0.5`,
+/// `family-literal:0.25` (`τ` written as the shortest decimal that reads back exactly). What
+/// `FromStr` reads back.
+impl fmt::Display for Operator {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.tau() {
+            Some(tau) => write!(f, "{}:{tau}", self.name()),
+            None => f.write_str(self.name()),
+        }
+    }
+}
+
+/// Reads exactly what [`Operator`]'s `Display` writes: a name of [`Operator::names`], the
+/// family's with `:T`, `T` a finite number in `[0, 1]`.
+impl FromStr for Operator {
+    type Err = ParseOperatorError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let (name, tau) = match text.split_once(':') {
+            Some((name, tau)) => (name, Some(tau)),
+            None => (text, None),
+        };
+        let prototype = Operator::prototype(name).ok_or_else(|| ParseOperatorError::Unknown {
+            name: name.to_string(),
+        })?;
+        let name = prototype.name();
+        let tau = match tau {
+            None => None,
+            Some(text) => match text.parse::<f64>().ok().filter(|tau| tau.is_finite()) {
+                None => {
+                    return Err(ParseOperatorError::InvalidTau {
+                        name,
+                        text: text.to_string(),
+                    });
+                }
+                Some(tau) if !(0.0..=1.0).contains(&tau) => {
+                    return Err(ParseOperatorError::TauOutOfRange { name, tau });
+                }
+                tau => tau,
+            },
+        };
+        Operator::from_name(name, tau).map_err(|error| match error {
+            OperatorNameError::MissingTau { name } => ParseOperatorError::MissingTau { name },
+            OperatorNameError::UnexpectedTau { name } => ParseOperatorError::UnexpectedTau { name },
+            OperatorNameError::Unknown { name } => ParseOperatorError::Unknown { name },
+        })
+    }
+}
+
 impl Operator {
     /// The names [`Operator::from_name`] accepts, in the order of the enum.
     pub fn names() -> Vec<&'static str> {
         OPERATORS.iter().map(|o| o.name()).collect()
+    }
+
+    /// How each operator is written for `FromStr`, in the order of the enum: its name, the
+    /// family's followed by `:T` (`family:T`).
+    pub fn forms() -> Vec<String> {
+        OPERATORS
+            .iter()
+            .map(|o| match o.tau() {
+                Some(_) => format!("{}:T", o.name()),
+                None => o.name().to_string(),
+            })
+            .collect()
+    }
+
+    /// The operator called `name` ([`Operator::name`]), the family's at an arbitrary weight.
+    fn prototype(name: &str) -> Option<Operator> {
+        OPERATORS.into_iter().find(|o| o.name() == name)
+    }
+
+    /// The family's weight `τ`; `None` for the other operators.
+    pub fn tau(self) -> Option<f64> {
+        match self {
+            Operator::Family { tau } | Operator::FamilyLiteral { tau } => Some(tau),
+            _ => None,
+        }
     }
 
     /// The operator's name, as the command line and the Python package spell it.
@@ -157,12 +276,9 @@ impl Operator {
     /// (`family`, `family-literal`) and refused by every other operator. The range of `τ` is
     /// checked by [`spectrum`].
     pub fn from_name(name: &str, tau: Option<f64>) -> Result<Self, OperatorNameError> {
-        let prototype = OPERATORS
-            .into_iter()
-            .find(|o| o.name() == name)
-            .ok_or_else(|| OperatorNameError::Unknown {
-                name: name.to_string(),
-            })?;
+        let prototype = Operator::prototype(name).ok_or_else(|| OperatorNameError::Unknown {
+            name: name.to_string(),
+        })?;
         match (prototype, tau) {
             (Operator::Family { .. }, Some(tau)) => Ok(Operator::Family { tau }),
             (Operator::FamilyLiteral { .. }, Some(tau)) => Ok(Operator::FamilyLiteral { tau }),
@@ -348,7 +464,7 @@ pub enum SpectrumError {
     #[error(
         "the relative Dirac operator vanishes on this mesh: its Gauss map is constant (every \
          face is flat), so all {vertices} vertices are in its kernel and it has no nonzero \
-         eigenvalue; list the kernel with --include-kernel, or use --operator family --tau T \
+         eigenvalue; list the kernel with --include-kernel, or use --operator family:T \
          (0 < T < 1), which sees the flat geometry through the Laplacian"
     )]
     VanishingOperator {
@@ -412,7 +528,7 @@ fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, toleran
         "the operator is numerically singular{place}{how}: it nearly vanishes there without \
          vanishing exactly, so its smallest eigenvalues are below what double precision \
          resolves against the rest of the mesh; treat such faces as flat with \
-         --flat-tolerance {suggestion}, or use --operator family --tau T (0 < T < 1)"
+         --flat-tolerance {suggestion}, or use --operator family:T (0 < T < 1)"
     )
 }
 

@@ -13,12 +13,12 @@ use std::ffi::OsString;
 use std::fs::{self, File};
 use std::path::{Path, PathBuf};
 
-use super::BatchError;
 use super::summary::{Row, Status, read_summary};
+use crate::common::error::CliError;
 
 /// The shard summaries in `out`: `(I, N, path)`, sorted.
-fn shard_summaries(out: &Path) -> Result<Vec<(usize, usize, PathBuf)>, BatchError> {
-    let io_error = |source| BatchError::Output {
+fn shard_summaries(out: &Path) -> Result<Vec<(usize, usize, PathBuf)>, CliError> {
+    let io_error = |source| CliError::Io {
         path: out.to_path_buf(),
         source,
     };
@@ -42,17 +42,17 @@ fn shard_summaries(out: &Path) -> Result<Vec<(usize, usize, PathBuf)>, BatchErro
 
 /// The merged rows of `meshes` (the whole input, in order) from the shard summaries in
 /// `out`, and the parts that have no summary (`"2/3"`, …).
-pub fn merge(meshes: &[PathBuf], out: &Path) -> Result<(Vec<Row>, Vec<String>), BatchError> {
+pub fn merge(meshes: &[PathBuf], out: &Path) -> Result<(Vec<Row>, Vec<String>), CliError> {
     let summaries = shard_summaries(out)?;
     let Some(&(_, count, _)) = summaries.first() else {
-        return Err(BatchError::Merge(format!(
+        return Err(CliError::Merge(format!(
             "{}: no shard summaries (summary-I-of-N.csv); run `dirac batch … --shard I/N` \
              with the same --out first",
             out.display()
         )));
     };
     if let Some((_, other, path)) = summaries.iter().find(|(_, n, _)| *n != count) {
-        return Err(BatchError::Merge(format!(
+        return Err(CliError::Merge(format!(
             "{}: summaries of {count} and of {other} shards in one directory ({}); \
              remove those of the other run",
             out.display(),
@@ -61,16 +61,16 @@ pub fn merge(meshes: &[PathBuf], out: &Path) -> Result<(Vec<Row>, Vec<String>), 
     }
     let mut by_name: HashMap<OsString, Row> = HashMap::new();
     for (_, _, path) in &summaries {
-        let file = File::open(path).map_err(|source| BatchError::Output {
+        let file = File::open(path).map_err(|source| CliError::Io {
             path: path.clone(),
             source,
         })?;
         let rows = read_summary(file)
-            .map_err(|problem| BatchError::Merge(format!("{}: {problem}", path.display())))?;
+            .map_err(|problem| CliError::Merge(format!("{}: {problem}", path.display())))?;
         for row in rows {
             let name = row.mesh.file_name().unwrap_or_default().to_os_string();
             if !meshes.iter().any(|m| m.file_name() == Some(&name)) {
-                return Err(BatchError::Merge(format!(
+                return Err(CliError::Merge(format!(
                     "{} lists {}, which is not in the input; merge with the input the \
                      shards ran on",
                     path.display(),

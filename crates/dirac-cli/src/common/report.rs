@@ -1,4 +1,5 @@
-//! What `dirac spectrum` prints: one [`Report`], as tables for people or as one JSON object.
+//! What `dirac spectrum` prints and `dirac batch` writes: one [`Report`], as tables for people
+//! or as one JSON object.
 
 use std::io::{self, Write};
 use std::time::Duration;
@@ -7,7 +8,8 @@ use dirac::spectrum::{Spectrum, SpectrumOptions};
 use dirac::{Topology, TriMesh};
 use serde::Serialize;
 
-use crate::args::{SolveArgs, value_name};
+use crate::common::parsers::value_name;
+use crate::common::solve_args::SolveArgs;
 
 /// Everything a run reports. Field names are the JSON keys.
 #[derive(Debug, Serialize)]
@@ -58,7 +60,8 @@ pub struct KernelReport {
 /// The options of a run, as [`Report`] and the JSON name them.
 #[derive(Debug, Serialize)]
 pub struct RunSettings {
-    /// The `--operator` value.
+    /// The operator's name ([`dirac::spectrum::Operator::name`]: `family` for `--operator
+    /// family:0.5`).
     pub operator: String,
     /// `τ` of the family, `null` for the other operators.
     pub tau: Option<f64>,
@@ -86,8 +89,8 @@ impl RunSettings {
     /// The settings of a run with the command-line options `solve`, translated to `options`.
     pub fn new(solve: &SolveArgs, options: &SpectrumOptions) -> Self {
         Self {
-            operator: value_name(&solve.operator),
-            tau: solve.tau,
+            operator: solve.operator.name().to_string(),
+            tau: solve.operator.tau(),
             k: solve.k,
             backend: value_name(&solve.backend),
             normalize: value_name(&solve.normalize),

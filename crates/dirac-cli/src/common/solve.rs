@@ -1,0 +1,117 @@
+//! Loading the mesh named on the command line and solving with the progress display.
+
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use dirac::io::read_mesh;
+use dirac::spectrum::{Spectrum, SpectrumError, SpectrumOptions, spectrum_with_progress};
+use dirac::{TriMesh, default_mesh};
+use qeig::Progress;
+
+use crate::common::error::CliError;
+use crate::common::progress::SolveProgress;
+
+/// Name of the built-in mesh in reports.
+pub const DEFAULT_MESH_NAME: &str = "spot (built-in)";
+
+/// The mesh at `path`, or the built-in one without a path, with its name for reports.
+pub fn load_mesh(path: Option<&Path>) -> Result<(TriMesh, String), CliError> {
+    match path {
+        Some(path) => Ok((read_mesh(path)?, path.display().to_string())),
+        None => Ok((default_mesh(), DEFAULT_MESH_NAME.to_string())),
+    }
+}
+
+/// A spectrum computed by [`solve`].
+pub struct Solved {
+    /// The eigenpairs: all `k`, or those that converged.
+    pub spectrum: Spectrum,
+    /// Whether all `k` converged.
+    pub converged: bool,
+    /// Assembly and eigensolve together.
+    pub elapsed: Duration,
+}
+
+impl Solved {
+    /// `Ok`, or [`CliError::NotConverged`] (exit code 3) saying how many of the `wanted` pairs
+    /// of the mesh `name` converged and what was done with them (`doing`, e.g. "writing
+    /// those"). Called after the converged part is printed or written.
+    pub fn check_converged(&self, name: &str, wanted: usize, doing: &str) -> Result<(), CliError> {
+        if self.converged {
+            return Ok(());
+        }
+        Err(CliError::NotConverged {
+            mesh: name.to_string(),
+            converged: self.spectrum.eigenvalues.len(),
+            wanted,
+            doing: doing.to_string(),
+        })
+    }
+}
+
+/// The spectrum of `mesh` (called `name` in messages) with the progress display on stderr
+/// (hidden with `quiet`). A solve that stops early is not an error here: it returns what
+/// converged with `converged: false`, and the caller reports it ([`Solved::check_converged`]).
+pub fn solve(
+    mesh: &TriMesh,
+    name: &str,
+    options: &SpectrumOptions,
+    quiet: bool,
+) -> Result<Solved, CliError> {
+    solve_until(mesh, name, options, quiet, || false)
+}
+
+/// [`solve`], stopped within one restart of the eigensolver once `stop()` is true (then it
+/// returns what converged by then, with `converged: false`).
+pub fn solve_until(
+    mesh: &TriMesh,
+    name: &str,
+    options: &SpectrumOptions,
+    quiet: bool,
+    stop: impl Fn() -> bool,
+) -> Result<Solved, CliError> {
+    let start = Instant::now();
+    let display = SolveProgress::start(quiet);
+    let mut show = |p: &Progress| {
+        display.update(p);
+        if stop() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    };
+    let result = spectrum_with_progress(mesh, options, Some(&mut show));
+    drop(display);
+    let elapsed = start.elapsed();
+    match result {
+        Ok(spectrum) => Ok(Solved {
+            spectrum,
+            converged: true,
+            elapsed,
+        }),
+        Err(SpectrumError::NotConverged { partial, .. }) => Ok(Solved {
+            spectrum: *partial,
+            converged: false,
+            elapsed,
+        }),
+        Err(source) => Err(CliError::Spectrum {
+            mesh: name.to_string(),
+            source,
+        }),
+    }
+}
+
+/// The spectrum of `mesh` (called `name` in messages) with the progress display; a solve that
+/// stops early is an error here (nothing is drawn), since a picture of some other mode would
+/// mislead.
+pub fn solve_converged(
+    mesh: &TriMesh,
+    name: &str,
+    options: &SpectrumOptions,
+    quiet: bool,
+) -> Result<Spectrum, CliError> {
+    let solved = solve(mesh, name, options, quiet)?;
+    solved.check_converged(name, options.k, "nothing drawn")?;
+    Ok(solved.spectrum)
+}
