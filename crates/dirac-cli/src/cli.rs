@@ -8,6 +8,7 @@ use crate::commands::descriptor::{self, DescriptorArgs};
 use crate::commands::eigenfunctions::{self, EigenfunctionsArgs};
 use crate::commands::plot::{self, PlotArgs, PlotCommand};
 use crate::commands::render::{self, RenderArgs};
+use crate::commands::repair::{self, RepairArgs};
 use crate::commands::spectrum::{self, SpectrumArgs};
 use crate::common::error::CliError;
 use crate::common::solve_args::SolveArgs;
@@ -55,6 +56,10 @@ pub enum Command {
     Render(RenderArgs),
     /// Charts (PNG or SVG): `dirac plot spectra` draws several spectra in one chart.
     Plot(PlotArgs),
+    /// Repair a mesh (merge duplicate vertices, drop degenerate faces, split non-manifold
+    /// edges and vertices, orient faces) and write it, reporting every change.
+    #[command(after_help = repair::AFTER_HELP)]
+    Repair(RepairArgs),
 }
 
 impl Command {
@@ -66,6 +71,7 @@ impl Command {
             Command::Descriptor(_) => &["descriptor"],
             Command::Batch(_) => &["batch"],
             Command::Render(_) => &["render"],
+            Command::Repair(_) => &["repair"],
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(_),
             }) => &["plot", "spectra"],
@@ -73,16 +79,17 @@ impl Command {
     }
 
     /// The operator and eigensolver options of the command.
-    fn solve_args(&self) -> &SolveArgs {
+    fn solve_args(&self) -> Option<&SolveArgs> {
         match self {
-            Command::Spectrum(args) => &args.solve,
-            Command::Eigenfunctions(args) => &args.solve,
-            Command::Descriptor(args) => &args.solve,
-            Command::Batch(args) => &args.solve,
-            Command::Render(args) => &args.solve,
+            Command::Spectrum(args) => Some(&args.solve),
+            Command::Eigenfunctions(args) => Some(&args.solve),
+            Command::Descriptor(args) => Some(&args.solve),
+            Command::Batch(args) => Some(&args.solve),
+            Command::Render(args) => Some(&args.solve),
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(args),
-            }) => &args.solve,
+            }) => Some(&args.solve),
+            Command::Repair(_) => None,
         }
     }
 }
@@ -90,7 +97,9 @@ impl Command {
 /// Runs the subcommand: applies the process-wide `--single-thread` first, and formats a usage
 /// error of the command with its usage line, as clap formats its own.
 pub fn dispatch(command: &Command) -> Result<(), CliError> {
-    command.solve_args().apply_thread_setting();
+    if let Some(solve) = command.solve_args() {
+        solve.apply_thread_setting();
+    }
     let outcome = match command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Eigenfunctions(args) => eigenfunctions::run(args),
@@ -98,6 +107,7 @@ pub fn dispatch(command: &Command) -> Result<(), CliError> {
         Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),
         Command::Plot(args) => plot::run(args),
+        Command::Repair(args) => repair::run(args),
     };
     outcome.map_err(|error| match error {
         CliError::Usage(usage) => CliError::Usage(with_usage_line(usage, command.path())),

@@ -45,7 +45,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Args;
-use dirac::io::{Format, parse_mesh};
+use dirac::io::{Format, parse_raw};
 use dirac::spectrum::SpectrumOptions;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
@@ -55,8 +55,9 @@ use sha2::{Digest, Sha256};
 use self::publish::publish;
 pub use self::shard::Shard;
 use self::summary::{Row, Status, write_summary};
-use crate::common::error::{CliError, INTERRUPTED, mesh_error_hint};
+use crate::common::error::{CliError, INTERRUPTED};
 use crate::common::parsers::positive_count;
+use crate::common::preparation::PreparedMesh;
 use crate::common::report::{Report, RunSettings, write_json};
 use crate::common::solve::solve_until;
 use crate::common::solve_args::SolveArgs;
@@ -279,20 +280,31 @@ impl Job<'_> {
         {
             return row;
         }
-        let mesh = match parse_mesh(mesh_path, &bytes) {
-            Ok(mesh) => mesh,
-            Err(error) => {
-                return Row::failed(mesh_path, format!("{error}{}", mesh_error_hint(&error)));
-            }
-        };
-        drop(bytes);
         let name = mesh_path.display().to_string();
+        let prepared = parse_raw(mesh_path, &bytes)
+            .map_err(CliError::from)
+            .and_then(|raw| {
+                self.args
+                    .solve
+                    .preparation
+                    .prepare(raw, mesh_path, name.clone())
+            });
+        drop(bytes);
+        let PreparedMesh {
+            mesh,
+            report: preparation,
+            ..
+        } = match prepared {
+            Ok(prepared) => prepared,
+            Err(error) => return Row::failed(mesh_path, error.to_string()),
+        };
         let mut report = Report::new(
             name.clone(),
             &mesh,
             RunSettings::new(&self.args.solve, &self.options),
             start.elapsed(),
         );
+        report.preparation = Some(preparation);
         report.mesh_sha256 = Some(digest);
         let mut row = Row {
             vertices: Some(mesh.vertex_count() as u64),

@@ -29,7 +29,8 @@ use ndarray::Array2;
 use crate::common::error::CliError;
 use crate::common::files::{has_extension, write_array};
 use crate::common::parsers::{finite, positive_count, positive_real, value_name};
-use crate::common::solve::{load_mesh, solve};
+use crate::common::preparation::PreparedMesh;
+use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
 /// Exit codes and examples shown by `dirac descriptor --help`.
@@ -145,6 +146,32 @@ fn check(args: &DescriptorArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Most values of a descriptor table: 2²⁸ (2 GiB of `float64`; a million vertices × 268
+/// columns), so that a mistyped `--samples` fails at once instead of after the solve.
+const MAX_VALUES: usize = 1 << 28;
+
+/// Checks, before the solve, that the table of `vertices` rows fits [`MAX_VALUES`].
+fn check_size(args: &DescriptorArgs, vertices: usize, k: usize) -> Result<(), CliError> {
+    let columns = match args.kind {
+        DescriptorKind::Hks | DescriptorKind::Dks => {
+            args.times.as_ref().map_or(args.samples, Vec::len)
+        }
+        DescriptorKind::Wks => args.energies.as_ref().map_or(args.samples, Vec::len),
+        DescriptorKind::Segmentation => k,
+        DescriptorKind::Eigvec => k.saturating_mul(4),
+    };
+    match vertices.checked_mul(columns) {
+        Some(values) if values <= MAX_VALUES => Ok(()),
+        _ => Err(CliError::usage(
+            ErrorKind::ValueValidation,
+            format!(
+                "a table of {vertices} vertices × {columns} columns exceeds {MAX_VALUES} values \
+                 (2 GiB); use fewer --samples, --times or --energies"
+            ),
+        )),
+    }
+}
+
 /// The descriptor table of `spectrum`.
 fn table(args: &DescriptorArgs, spectrum: &Spectrum) -> Result<Table, DescriptorError> {
     let modes = Modes::from_spectrum(spectrum)?;
@@ -220,7 +247,11 @@ pub fn run(args: &DescriptorArgs) -> Result<(), CliError> {
     if args.kind == DescriptorKind::Hks {
         args.solve.use_laplacian(&mut options, "hks");
     }
-    let (mesh, name) = load_mesh(args.mesh.as_deref())?;
+    let PreparedMesh { mesh, name, .. } = args
+        .solve
+        .preparation
+        .load(args.mesh.as_deref(), args.quiet)?;
+    check_size(args, mesh.vertex_count(), options.k)?;
     let solved = solve(&mesh, &name, &options, args.quiet)?;
     let table = table(args, &solved.spectrum).map_err(|source| CliError::Descriptor {
         mesh: name.clone(),

@@ -22,7 +22,8 @@ use ndarray::{Array1, Array3};
 
 use crate::common::error::CliError;
 use crate::common::files::{has_extension, write_array};
-use crate::common::solve::{load_mesh, solve};
+use crate::common::preparation::PreparedMesh;
+use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
 /// Exit codes and examples shown by `dirac eigenfunctions --help`.
@@ -138,7 +139,10 @@ fn eigenvector_array(spectrum: &Spectrum, vertices: usize) -> Array3<f64> {
 pub fn run(args: &EigenfunctionsArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let output = output(args)?;
-    let (mesh, name) = load_mesh(args.mesh.as_deref())?;
+    let PreparedMesh { mesh, name, .. } = args
+        .solve
+        .preparation
+        .load(args.mesh.as_deref(), args.quiet)?;
     let solved = solve(&mesh, &name, &options, args.quiet)?;
     let spectrum = &solved.spectrum;
     let converged = spectrum.eigenvalues.len();

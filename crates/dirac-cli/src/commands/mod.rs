@@ -7,4 +7,5 @@ pub mod descriptor;
 pub mod eigenfunctions;
 pub mod plot;
 pub mod render;
+pub mod repair;
 pub mod spectrum;

@@ -10,7 +10,8 @@ use dirac_cli::plot::{Series, plot_spectra};
 use crate::common::error::{CliError, PICTURE_EXIT_CODES};
 use crate::common::files::tell;
 use crate::common::parsers::picture_path;
-use crate::common::solve::{load_mesh, solve_converged};
+use crate::common::preparation::PreparedMesh;
+use crate::common::solve::solve_converged;
 use crate::common::solve_args::SolveArgs;
 
 /// What `dirac plot spectra --help` shows after the exit codes.
@@ -96,7 +97,7 @@ fn plot(args: &SpectraArgs) -> Result<(), CliError> {
     let mut series = Vec::new();
     let mut mesh_names = Vec::new();
     for path in paths {
-        let (mesh, name) = load_mesh(path)?;
+        let PreparedMesh { mesh, name, .. } = args.solve.preparation.load(path, args.quiet)?;
         // Legends and titles name a file by its name alone; directories make them too long.
         let name = path
             .and_then(|p| p.file_name())

@@ -12,14 +12,17 @@ use dirac::descriptors::{
 };
 use dirac::spectrum::{Normalization, Spectrum};
 use dirac::well::PotentialWell;
-use dirac_cli::render::{Field, Projection, RenderOptions, View, format_value, render_png};
+use dirac_cli::render::{
+    Field, MIN_PANEL, Projection, RenderOptions, View, format_value, max_panels, render_png,
+};
 
 use crate::common::error::{CliError, PICTURE_EXIT_CODES};
 use crate::common::files::tell;
 use crate::common::parsers::{
     finite, parse_size, picture_path, positive_count, positive_real, value_name,
 };
-use crate::common::solve::{load_mesh, solve_converged};
+use crate::common::preparation::PreparedMesh;
+use crate::common::solve::solve_converged;
 use crate::common::solve_args::SolveArgs;
 
 /// What `dirac render --help` shows after the exit codes.
@@ -178,7 +181,21 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let mut options = args.solve.options();
     let shading = shading(args, options.well)?;
     let count = args.grid.unwrap_or(1);
-    let (mesh, name) = load_mesh(args.mesh.as_deref())?;
+    let (width, height) = args.size;
+    if count > max_panels(width, height) {
+        return Err(CliError::usage(
+            ErrorKind::ValueValidation,
+            format!(
+                "--grid {count}: a {width}x{height} image holds at most {} panels of \
+                 {MIN_PANEL}x{MIN_PANEL} pixels; use a smaller --grid or a larger --size",
+                max_panels(width, height)
+            ),
+        ));
+    }
+    let PreparedMesh { mesh, name, .. } = args
+        .solve
+        .preparation
+        .load(args.mesh.as_deref(), args.quiet)?;
 
     let fields = match shading {
         Shading::Potential(well) => vec![potential(&mesh, &name, well, options.normalization)?],
@@ -221,7 +238,6 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         }
     };
 
-    let (width, height) = args.size;
     let render_options = RenderOptions {
         width,
         height,

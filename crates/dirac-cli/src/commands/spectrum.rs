@@ -7,8 +7,9 @@ use std::time::Instant;
 use clap::Args;
 
 use crate::common::error::CliError;
+use crate::common::preparation::PreparedMesh;
 use crate::common::report::{Report, RunSettings, write_human, write_json};
-use crate::common::solve::{load_mesh, solve};
+use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
 /// Arguments of `dirac spectrum`.
@@ -35,7 +36,14 @@ pub struct SpectrumArgs {
 pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let start = Instant::now();
-    let (mesh, name) = load_mesh(args.mesh.as_deref())?;
+    let PreparedMesh {
+        mesh,
+        name,
+        report: preparation,
+    } = args
+        .solve
+        .preparation
+        .load(args.mesh.as_deref(), args.quiet)?;
     let load_time = start.elapsed();
 
     let mut report = Report::new(
@@ -44,6 +52,7 @@ pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
         RunSettings::new(&args.solve, &options),
         load_time,
     );
+    report.preparation = Some(preparation);
 
     let solved = solve(&mesh, &report.mesh, &options, args.quiet)?;
     report.set_spectrum(&solved.spectrum, solved.elapsed);

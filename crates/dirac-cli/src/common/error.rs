@@ -4,11 +4,12 @@
 use std::io;
 use std::path::PathBuf;
 
-use dirac::MeshError;
 use dirac::descriptors::DescriptorError;
 use dirac::io::{ReadError, WriteError};
+use dirac::repair::RepairError;
 use dirac::spectrum::SpectrumError;
 use dirac::well::WellError;
+use dirac::{ComponentError, MeshError};
 use dirac_cli::plot::PlotError;
 use dirac_cli::render::RenderError;
 use ndarray_npy::WriteNpyError;
@@ -49,6 +50,22 @@ pub enum CliError {
     /// an invalid mesh it ends with the hint that `--repair` exists).
     #[error("{0}{hint}", hint = mesh_error_hint(.0))]
     Read(#[from] ReadError),
+    /// `--repair` cannot make the mesh valid.
+    #[error("{mesh}: cannot repair: {source}")]
+    Repair {
+        /// The mesh.
+        mesh: String,
+        /// What failed.
+        source: RepairError,
+    },
+    /// `--component` names no component of the mesh.
+    #[error("{mesh}: --component: {source}")]
+    Component {
+        /// The mesh.
+        mesh: String,
+        /// What failed.
+        source: ComponentError,
+    },
     /// The spectrum cannot be computed on this mesh.
     #[error("{mesh}: {source}")]
     Spectrum {

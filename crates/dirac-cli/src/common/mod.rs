@@ -5,6 +5,7 @@
 pub mod error;
 pub mod files;
 pub mod parsers;
+pub mod preparation;
 pub mod progress;
 pub mod report;
 pub mod solve;

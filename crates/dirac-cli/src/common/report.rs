@@ -9,6 +9,7 @@ use dirac::{Topology, TriMesh};
 use serde::Serialize;
 
 use crate::common::parsers::value_name;
+use crate::common::preparation::PreparationReport;
 use crate::common::solve_args::SolveArgs;
 
 /// Everything a run reports. Field names are the JSON keys.
@@ -24,6 +25,8 @@ pub struct Report {
     pub vertices: usize,
     /// Number of faces.
     pub faces: usize,
+    /// What `--repair` and `--component` did.
+    pub preparation: Option<PreparationReport>,
     /// Boundary loops, components and genus (human output only).
     #[serde(skip)]
     pub topology: Topology,
@@ -83,6 +86,11 @@ pub struct RunSettings {
     pub seed: u64,
     /// The `--max-restarts`.
     pub max_restarts: usize,
+    /// `--repair`'s merge distance (relative to the bounding-box diagonal); `null` without
+    /// `--repair`.
+    pub repair: Option<f64>,
+    /// The `--component` value.
+    pub component: String,
 }
 
 impl RunSettings {
@@ -105,6 +113,11 @@ impl RunSettings {
             tolerance: options.tolerance,
             seed: options.seed,
             max_restarts: options.max_restarts,
+            repair: solve
+                .preparation
+                .repair
+                .then(|| solve.preparation.options.repair_options().merge_distance),
+            component: solve.preparation.options.component.to_string(),
         }
     }
 }
@@ -159,6 +172,7 @@ impl Report {
         Self {
             mesh: name,
             mesh_sha256: None,
+            preparation: None,
             vertices: mesh.vertex_count(),
             faces: mesh.face_count(),
             topology: mesh.topology(),

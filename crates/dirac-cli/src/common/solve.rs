@@ -1,27 +1,14 @@
-//! Loading the mesh named on the command line and solving with the progress display.
+//! Solving with the progress display.
 
 use std::ops::ControlFlow;
-use std::path::Path;
 use std::time::{Duration, Instant};
 
-use dirac::io::read_mesh;
+use dirac::TriMesh;
 use dirac::spectrum::{Spectrum, SpectrumError, SpectrumOptions, spectrum_with_progress};
-use dirac::{TriMesh, default_mesh};
 use qeig::Progress;
 
 use crate::common::error::CliError;
 use crate::common::progress::SolveProgress;
-
-/// Name of the built-in mesh in reports.
-pub const DEFAULT_MESH_NAME: &str = "spot (built-in)";
-
-/// The mesh at `path`, or the built-in one without a path, with its name for reports.
-pub fn load_mesh(path: Option<&Path>) -> Result<(TriMesh, String), CliError> {
-    match path {
-        Some(path) => Ok((read_mesh(path)?, path.display().to_string())),
-        None => Ok((default_mesh(), DEFAULT_MESH_NAME.to_string())),
-    }
-}
 
 /// A spectrum computed by [`solve`].
 pub struct Solved {

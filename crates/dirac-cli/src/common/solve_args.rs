@@ -8,6 +8,7 @@ use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions};
 use dirac::well::PotentialWell;
 
 use crate::common::parsers::{nonnegative_real, positive_count, positive_real, replaced_tau};
+use crate::common::preparation::MeshPreparation;
 
 /// The help of `--operator`: the forms it accepts.
 fn operator_help() -> String {
@@ -30,6 +31,10 @@ pub struct SolveArgs {
     #[arg(long, value_name = "T", hide = true, num_args = 0..=1, default_missing_value = "",
           allow_hyphen_values = true, value_parser = replaced_tau)]
     pub tau: Option<Infallible>,
+
+    /// Repair and component selection of the mesh.
+    #[command(flatten)]
+    pub preparation: MeshPreparation,
 
     /// Number of eigenvalues (those of smallest |λ|).
     #[arg(short, default_value_t = 10, value_parser = positive_count)]

@@ -162,6 +162,12 @@ pub const MAX_SIDE: u32 = 4096;
 /// Smallest panel side, in pixels: room for a title, a colour bar and a picture.
 pub const MIN_PANEL: u32 = 48;
 
+/// The most panels an image of `width × height` pixels holds, each at least [`MIN_PANEL`]
+/// pixels on a side: callers check a panel count with it before computing the fields.
+pub fn max_panels(width: u32, height: u32) -> usize {
+    (width / MIN_PANEL) as usize * (height / MIN_PANEL) as usize
+}
+
 /// Most samples of the supersampled image (bounds memory: 3 bytes each for the image, 16 for
 /// the z-buffer of a panel).
 const MAX_SAMPLES: u64 = 1 << 24;
