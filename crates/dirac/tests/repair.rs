@@ -189,6 +189,23 @@ fn zero_area_face_is_removed() {
 }
 
 #[test]
+fn sliver_within_the_merge_tolerance_is_removed() {
+    // Face 2 is glued to edge 0–1 with its apex 1e-12 off that edge: a valid mesh for
+    // TriMesh::new would accept its area, but the height is below the tolerance 1e-9 · √2.
+    let input = square_with(&[[0.5, -1e-12, 0.0]], &[[1, 0, 4]]);
+    let repaired = fixed(input.clone());
+    assert_eq!(repaired.report.removed_faces_zero_area, change(1, vec![2]));
+    assert_eq!(repaired.report.removed_unreferenced, change(1, vec![4]));
+    assert_is_square(&repaired);
+    assert_idempotent(&repaired);
+    // A height above the tolerance is kept: the triangle is small, not degenerate.
+    let input = square_with(&[[0.5, -1e-6, 0.0]], &[[1, 0, 4]]);
+    let repaired = fixed(input);
+    assert!(repaired.report.is_empty(), "{}", repaired.report);
+    assert_eq!(repaired.mesh.face_count(), 3);
+}
+
+#[test]
 fn face_with_a_degenerate_angle_is_removed() {
     // A needle 10²⁰⁰ long and 10⁻¹⁰⁰ wide: its area is fine, but the cotangent at vertex 5
     // overflows. Its size would make the relative merge tolerance huge, so merge nothing.

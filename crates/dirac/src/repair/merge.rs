@@ -6,7 +6,7 @@ use crate::disjoint_sets::DisjointSets;
 
 /// The Euclidean distance `|a − b|`, by `hypot` so that it neither underflows nor overflows
 /// before the result does (and is never below a coordinate difference, which the grid relies on).
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(super) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1]).hypot(a[2] - b[2])
 }
 
@@ -27,6 +27,19 @@ fn bounding_box(positions: &[[f64; 3]], selected: &[bool]) -> Option<([f64; 3], 
         })
 }
 
+/// The absolute tolerance `merge_distance · d`, `d` the diagonal of the bounding box of the
+/// selected points (`0` without any; may be infinite for coordinates near `±f64::MAX`).
+pub(super) fn tolerance(positions: &[[f64; 3]], selected: &[bool], merge_distance: f64) -> f64 {
+    // Not `0 · ∞`: zero merges only equal points even when the box overflows.
+    match bounding_box(positions, selected) {
+        Some((lo, hi)) if merge_distance != 0.0 => {
+            let extent: [f64; 3] = std::array::from_fn(|c| hi[c] - lo[c]);
+            merge_distance * extent[0].hypot(extent[1]).hypot(extent[2])
+        }
+        _ => 0.0,
+    }
+}
+
 /// For every vertex, the smallest index of its cluster: the selected vertices (finite
 /// coordinates) are joined whenever `|p_a − p_b| ≤ merge_distance · d`, `d` the diagonal of
 /// their bounding box, and clusters are the connected components of that relation (so chains
@@ -43,13 +56,7 @@ pub(super) fn clusters(
     let mut sets = DisjointSets::new(positions.len());
     if let Some((lo, hi)) = bounding_box(positions, selected) {
         let extent: [f64; 3] = std::array::from_fn(|c| hi[c] - lo[c]);
-        let diagonal = extent[0].hypot(extent[1]).hypot(extent[2]);
-        // Not `0 · ∞`: zero merges only equal points even when the box overflows.
-        let tolerance = if merge_distance == 0.0 {
-            0.0
-        } else {
-            merge_distance * diagonal
-        };
+        let tolerance = tolerance(positions, selected, merge_distance);
         let members = (0..positions.len()).filter(|&v| selected[v]);
         if tolerance.is_finite() {
             join_close(&mut sets, positions, members, lo, extent, tolerance);

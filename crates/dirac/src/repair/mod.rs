@@ -9,7 +9,10 @@
 //! 1. drop faces naming a vertex out of range or with a non-finite coordinate;
 //! 2. merge vertices within [`RepairOptions::merge_distance`] (relative to the bounding box);
 //! 3. drop faces that repeat a vertex, then faces with the same vertices as an earlier face;
-//! 4. drop zero-area faces and faces with a degenerate angle (the tests of [`TriMesh::new`]);
+//! 4. drop zero-area faces and faces with a degenerate angle (the tests of [`TriMesh::new`]),
+//!    and slivers that merging could flatten: faces whose smallest height, `2 · area / longest
+//!    edge`, is at most the merge tolerance (a vertex within the tolerance of the opposite
+//!    edge: its cotangent weights would be ~`1/height`, and its area no more than rounding);
 //! 5. glue faces into manifold sheets: an edge of two faces joins them, an edge of more faces
 //!    joins only pairs that shared it before merging ([`glued_edges`](sheets::glued_edges));
 //! 6. orient each connected sheet consistently (the larger area decides); a non-orientable
@@ -19,7 +22,8 @@
 //! 8. validate with [`TriMesh::new`].
 //!
 //! Repair is idempotent: repairing a repaired mesh changes nothing and reports nothing. A
-//! valid mesh without coincident vertices passes through unchanged (same positions and faces).
+//! valid mesh without coincident vertices or slivers passes through unchanged (same positions
+//! and faces).
 
 mod merge;
 mod report;
@@ -118,6 +122,14 @@ pub enum RepairError {
     Invalid(MeshError),
 }
 
+/// Whether the triangle `p` is a sliver of height at most `tolerance` (step 4): `2 · area /
+/// longest edge ≤ tolerance`, written without a division. Only for `tolerance > 0`.
+fn collapses(p: [[f64; 3]; 3], tolerance: f64) -> bool {
+    let edge = |a: usize, b: usize| merge::distance(p[a], p[b]);
+    let longest = edge(0, 1).max(edge(1, 2)).max(edge(2, 0));
+    tolerance > 0.0 && 2.0 * triangle_area(p[0], p[1], p[2]) <= tolerance * longest
+}
+
 /// Repairs `raw` into a valid [`TriMesh`] (see the [module documentation](self) for the
 /// steps). Never panics; each step is reported in [`Repaired::report`].
 pub fn repair(raw: RawMesh, options: &RepairOptions) -> Result<Repaired, RepairError> {
@@ -172,7 +184,12 @@ pub fn repair(raw: RawMesh, options: &RepairOptions) -> Result<Repaired, RepairE
         shaped.push((t, f));
     }
     let (mut zero_area, mut degenerate) = (Vec::new(), Vec::new());
+    let collapse = merge::tolerance(&positions, &used, merge_distance);
     for (t, f) in shaped {
+        if collapses(f.map(|v| positions[v]), collapse) {
+            zero_area.push(t);
+            continue;
+        }
         match check_face_shape(&positions, t, f) {
             Ok(()) => shape_faces.push((t, f)),
             Err(MeshError::DegenerateAngle { .. }) => degenerate.push(t),
