@@ -11,7 +11,7 @@
 //! 3. drop faces that repeat a vertex, then faces with the same vertices as an earlier face;
 //! 4. drop zero-area faces and faces with a degenerate angle (the tests of [`TriMesh::new`]);
 //! 5. glue faces into manifold sheets: an edge of two faces joins them, an edge of more faces
-//!    joins only pairs that shared it before merging ([`glued_edges`](sheets::glued_edges));
+//!    joins only pairs that shared it before merging;
 //! 6. orient each connected sheet consistently (the larger area decides); a non-orientable
 //!    one is [`RepairError::NonOrientable`];
 //! 7. make one vertex per fan of corners (this splits non-manifold edges and vertices, and
