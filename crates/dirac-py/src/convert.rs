@@ -2,6 +2,8 @@
 //! `float64 (n, 3)` positions and `int64 (m, 3)` faces (it converts any other dtype or order);
 //! shapes are checked again here, so that the native module is safe to call directly.
 
+use dirac::io::RawMesh;
+use dirac::repair::Repaired;
 use dirac::{Spectrum, TriMesh};
 use faer::sparse::SparseColMat;
 use ndarray::{Array2, Array3, ArrayView3};
@@ -12,12 +14,15 @@ use qscalar::Quat;
 
 use crate::error::{Kind, mesh_error, plain};
 
-/// The mesh of positions `vertices (n, 3)` and faces `faces (m, 3)`.
-pub fn mesh(
+/// Positions and faces as numpy holds them (negative indices possible).
+type Rows = (Vec<[f64; 3]>, Vec<[i64; 3]>);
+
+/// The rows of `vertices (n, 3)` and `faces (m, 3)`, shapes checked.
+fn rows(
     py: Python<'_>,
     vertices: &PyReadonlyArray2<'_, f64>,
     faces: &PyReadonlyArray2<'_, i64>,
-) -> PyResult<TriMesh> {
+) -> PyResult<Rows> {
     let (v, f) = (vertices.as_array(), faces.as_array());
     for (name, shape) in [("V", v.shape()), ("F", f.shape())] {
         if shape[1] != 3 {
@@ -28,9 +33,36 @@ pub fn mesh(
             ));
         }
     }
-    let positions = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
-    let mut triangles = Vec::with_capacity(f.nrows());
-    for (face, row) in f.rows().into_iter().enumerate() {
+    Ok((
+        v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect(),
+        f.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect(),
+    ))
+}
+
+/// Positions `vertices (n, 3)` and faces `faces (m, 3)`, not validated: a negative index
+/// becomes `usize::MAX`, out of range like any index `≥ n` (for [`dirac::repair`]).
+pub fn raw_mesh(
+    py: Python<'_>,
+    vertices: &PyReadonlyArray2<'_, f64>,
+    faces: &PyReadonlyArray2<'_, i64>,
+) -> PyResult<RawMesh> {
+    let (positions, faces) = rows(py, vertices, faces)?;
+    let faces = faces
+        .iter()
+        .map(|f| f.map(|i| usize::try_from(i).unwrap_or(usize::MAX)))
+        .collect();
+    Ok(RawMesh { positions, faces })
+}
+
+/// The mesh of positions `vertices (n, 3)` and faces `faces (m, 3)`.
+pub fn mesh(
+    py: Python<'_>,
+    vertices: &PyReadonlyArray2<'_, f64>,
+    faces: &PyReadonlyArray2<'_, i64>,
+) -> PyResult<TriMesh> {
+    let (positions, f) = rows(py, vertices, faces)?;
+    let mut triangles = Vec::with_capacity(f.len());
+    for (face, row) in f.iter().enumerate() {
         let mut corners = [0; 3];
         for (corner, &index) in corners.iter_mut().zip(row) {
             *corner = usize::try_from(index).map_err(|_| {
@@ -49,16 +81,37 @@ pub fn mesh(
 /// `(V, F)` of a mesh: `float64 (n, 3)` and `int64 (m, 3)`.
 pub fn mesh_arrays<'py>(py: Python<'py>, mesh: &TriMesh) -> (Bound<'py, PyAny>, Bound<'py, PyAny>) {
     let positions: Vec<f64> = mesh.positions().iter().flatten().copied().collect();
-    let faces: Vec<i64> = mesh
-        .faces()
-        .iter()
-        .flatten()
-        .map(|&i| i64::try_from(i).expect("a vertex index fits in i64"))
-        .collect();
+    let faces: Vec<i64> = mesh.faces().iter().flatten().map(|&i| index(i)).collect();
     (
         matrix(py, positions, mesh.vertex_count(), 3),
         matrix(py, faces, mesh.face_count(), 3),
     )
+}
+
+/// A repaired mesh as a dict: `vertices`, `faces`, `vertex_origin`, `face_origin` (int64
+/// arrays), `report` (the report as JSON text) and `summary` (its lines).
+pub fn repaired_dict<'py>(py: Python<'py>, repaired: &Repaired) -> PyResult<Bound<'py, PyDict>> {
+    let dict = PyDict::new(py);
+    let (vertices, faces) = mesh_arrays(py, &repaired.mesh);
+    dict.set_item("vertices", vertices)?;
+    dict.set_item("faces", faces)?;
+    for (name, origin) in [
+        ("vertex_origin", &repaired.vertex_origin),
+        ("face_origin", &repaired.face_origin),
+    ] {
+        let origin: Vec<i64> = origin.iter().map(|&i| index(i)).collect();
+        dict.set_item(name, PyArray1::from_vec(py, origin))?;
+    }
+    let report = serde_json::to_string(&repaired.report)
+        .map_err(|e| plain(py, Kind::Solver, format!("the repair report: {e}")))?;
+    dict.set_item("report", report)?;
+    dict.set_item("summary", repaired.report.to_string())?;
+    Ok(dict)
+}
+
+/// A vertex or face index as numpy stores it.
+fn index(i: usize) -> i64 {
+    i64::try_from(i).expect("an index of an in-memory array fits in i64")
 }
 
 /// A C-ordered `(rows, columns)` array of `values`.

@@ -9,6 +9,7 @@
 use dirac::descriptors::DescriptorError;
 use dirac::io::{ReadError, WriteError};
 use dirac::operators::OperatorError;
+use dirac::repair::RepairError;
 use dirac::well::WellError;
 use dirac::{MeshError, OperatorNameError, SpectrumError};
 use pyo3::prelude::*;
@@ -26,6 +27,8 @@ pyo3::create_exception!(
 pub enum Kind {
     /// `MeshError`: the mesh is invalid (names the face or vertex).
     Mesh,
+    /// `MeshError` raised by a repair (the message carries no hint to repair).
+    Repair,
     /// `MeshFileError`: a mesh file is malformed or of an unknown format.
     MeshFile,
     /// `OSError` (details: `errno`): a file could not be opened, read or written.
@@ -49,6 +52,7 @@ impl Kind {
     fn name(self) -> &'static str {
         match self {
             Kind::Mesh => "mesh",
+            Kind::Repair => "repair",
             Kind::MeshFile => "mesh_file",
             Kind::Io => "io",
             Kind::Options => "options",
@@ -81,7 +85,13 @@ pub fn plain(py: Python<'_>, kind: Kind, message: impl ToString) -> PyErr {
 /// A `MeshError` whose attributes `face` and `vertex` are the elements `error` names, with
 /// `message` (the error itself, or the error with its file).
 pub fn mesh_error(py: Python<'_>, error: &MeshError, message: impl ToString) -> PyErr {
-    let (face, vertex) = match error {
+    let (face, vertex) = mesh_elements(error);
+    with_elements(py, Kind::Mesh, message, face, vertex)
+}
+
+/// The face and vertex a [`MeshError`] names.
+fn mesh_elements(error: &MeshError) -> (Option<usize>, Option<usize>) {
+    match error {
         MeshError::IndexOutOfRange { face, vertex, .. }
         | MeshError::RepeatedIndex { face, vertex }
         | MeshError::DegenerateAngle { face, vertex } => (Some(*face), Some(*vertex)),
@@ -92,8 +102,19 @@ pub fn mesh_error(py: Python<'_>, error: &MeshError, message: impl ToString) -> 
         MeshError::NonManifoldEdge { faces, .. } => (faces.first().copied(), None),
         MeshError::InconsistentOrientation { faces, .. } => (Some(faces[0]), None),
         _ => (None, None),
+    }
+}
+
+/// A failed repair: `OptionsError` for a bad merge distance, else `MeshError` naming the input
+/// face or vertex.
+pub fn repair_error(py: Python<'_>, error: &RepairError) -> PyErr {
+    let (face, vertex) = match error {
+        RepairError::InvalidMergeDistance(_) => return plain(py, Kind::Options, error),
+        RepairError::NonOrientable { face, .. } => (Some(*face), None),
+        RepairError::Invalid(mesh) => mesh_elements(mesh),
+        _ => (None, None),
     };
-    with_elements(py, Kind::Mesh, message, face, vertex)
+    with_elements(py, Kind::Repair, error, face, vertex)
 }
 
 /// An exception of `kind` whose attributes are the `face` and `vertex` given.

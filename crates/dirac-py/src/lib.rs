@@ -14,7 +14,8 @@ use std::path::PathBuf;
 
 use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
-use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, write_obj, write_ply};
+use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, read_raw, write_obj, write_ply};
+use dirac::repair::{DEFAULT_MERGE_DISTANCE, RepairOptions};
 use dirac::spectrum::{DEFAULT_FLAT_TOLERANCE, spectrum_with_progress};
 use dirac::well::PotentialWell;
 use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions};
@@ -25,7 +26,7 @@ use qeig::{Progress, ProgressCallback};
 
 use crate::error::{
     Kind, NativeError, descriptor_error, operator_name_error, plain, raise, read_error,
-    spectrum_error, well_error, write_error,
+    repair_error, spectrum_error, well_error, write_error,
 };
 
 /// `(V, F)` of the mesh file at `path` (`.obj`, `.off`, `.ply`), validated.
@@ -35,6 +36,45 @@ fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<(Bound<'_, PyAny>, Bound
         .detach(|| read_mesh_file(&path))
         .map_err(|e| read_error(py, &e))?;
     Ok(convert::mesh_arrays(py, &mesh))
+}
+
+/// Repairs the unvalidated `(V, F)` (negative indices count as out of range): a dict of the
+/// repaired mesh, the maps to the input and the report ([`convert::repaired_dict`]).
+#[pyfunction]
+fn repair<'py>(
+    py: Python<'py>,
+    vertices: PyReadonlyArray2<'py, f64>,
+    faces: PyReadonlyArray2<'py, i64>,
+    merge_distance: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let raw = convert::raw_mesh(py, &vertices, &faces)?;
+    let repaired = py
+        .detach(|| dirac::repair::repair(raw, &repair_options(merge_distance)))
+        .map_err(|e| repair_error(py, &e))?;
+    convert::repaired_dict(py, &repaired)
+}
+
+/// Reads the mesh file at `path` without validating it and repairs it (as [`repair`]).
+#[pyfunction]
+fn read_and_repair(
+    py: Python<'_>,
+    path: PathBuf,
+    merge_distance: f64,
+) -> PyResult<Bound<'_, PyDict>> {
+    let raw = py
+        .detach(|| read_raw(&path))
+        .map_err(|e| read_error(py, &e))?;
+    let repaired = py
+        .detach(|| dirac::repair::repair(raw, &repair_options(merge_distance)))
+        .map_err(|e| repair_error(py, &e))?;
+    convert::repaired_dict(py, &repaired)
+}
+
+/// The library's repair options with `merge_distance`.
+fn repair_options(merge_distance: f64) -> RepairOptions {
+    let mut options = RepairOptions::default();
+    options.merge_distance = merge_distance;
+    options
 }
 
 /// Writes the mesh `(V, F)` to `path` as OBJ or binary PLY (by the extension).
@@ -465,10 +505,13 @@ fn _native(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = module.py();
     module.add("NativeError", py.get_type::<NativeError>())?;
     module.add("DEFAULT_FLAT_TOLERANCE", DEFAULT_FLAT_TOLERANCE)?;
+    module.add("DEFAULT_MERGE_DISTANCE", DEFAULT_MERGE_DISTANCE)?;
     module.add("OPERATORS", Operator::names())?;
     for function in [
         wrap_pyfunction!(read_mesh, module)?,
         wrap_pyfunction!(write_mesh, module)?,
+        wrap_pyfunction!(repair, module)?,
+        wrap_pyfunction!(read_and_repair, module)?,
         wrap_pyfunction!(default_mesh, module)?,
         wrap_pyfunction!(spectrum, module)?,
         wrap_pyfunction!(eigenproblem, module)?,

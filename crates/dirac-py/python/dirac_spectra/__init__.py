@@ -13,6 +13,7 @@ numpy in, numpy out: ``V`` is ``(n, 3)`` positions, ``F`` ``(m, 3)`` triangles; 
 
 from ._descriptors import DEFAULT_SAMPLES, Descriptor, dks, hks, segmentation_descriptor, wks
 from ._mesh import default_mesh, read_mesh, write_mesh
+from ._repair import DEFAULT_MERGE_DISTANCE, Repaired, read_and_repair, repair
 from ._spectrum import (
     DEFAULT_FLAT_TOLERANCE,
     OPERATORS,
@@ -41,6 +42,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "DEFAULT_FLAT_TOLERANCE",
+    "DEFAULT_MERGE_DISTANCE",
     "DEFAULT_SAMPLES",
     "OPERATORS",
     "Descriptor",
@@ -53,6 +55,7 @@ __all__ = [
     "OperatorMatrices",
     "OptionsError",
     "PotentialWell",
+    "Repaired",
     "SingularError",
     "SolverError",
     "Spectrum",
@@ -63,7 +66,9 @@ __all__ = [
     "laplacian",
     "operator_matrices",
     "potential_well",
+    "read_and_repair",
     "read_mesh",
+    "repair",
     "segmentation_descriptor",
     "spectrum",
     "wks",

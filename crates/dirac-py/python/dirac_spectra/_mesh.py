@@ -8,15 +8,24 @@ import numpy as np
 import numpy.typing as npt
 
 from . import _arrays, _native
+from ._repair import read_and_repair
 from .errors import translated
 
 
-@translated()
-def read_mesh(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
+def read_mesh(
+    path: str | os.PathLike[str], repair: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """``(V, F)`` of a ``.obj``, ``.off`` or ``.ply`` file (ASCII or binary PLY): float64 ``(n, 3)``
     positions and int64 ``(m, 3)`` triangles. The mesh is validated: a file that is not a
-    manifold, consistently oriented triangle mesh raises ``MeshError`` naming the element."""
-    return _native.read_mesh(os.fspath(path))
+    manifold, consistently oriented triangle mesh raises ``MeshError`` naming the element.
+
+    With ``repair=True`` the file is repaired instead (:func:`dirac_spectra.repair`, default
+    tolerance) and the repaired ``(V, F)`` returned; the report and the maps back to the file's
+    numbering are dropped, so use :func:`dirac_spectra.read_and_repair` to keep them."""
+    if repair:
+        repaired = read_and_repair(path)
+        return repaired.vertices, repaired.faces
+    return translated()(_native.read_mesh)(os.fspath(path))
 
 
 def write_mesh(path: str | os.PathLike[str], V: npt.ArrayLike, F: npt.ArrayLike) -> None:

@@ -11,10 +11,16 @@ class NativeError(Exception):
     """args = (kind, message, details); translated by dirac_spectra.errors."""
 
 DEFAULT_FLAT_TOLERANCE: float
+DEFAULT_MERGE_DISTANCE: float
 OPERATORS: list[str]
 
 def read_mesh(path: str) -> tuple[np.ndarray, np.ndarray]: ...
 def write_mesh(path: str, vertices: np.ndarray, faces: np.ndarray) -> None: ...
+
+# Both return {"vertices", "faces", "vertex_origin", "face_origin": arrays, "report": JSON text,
+# "summary": text}; faces need not be valid (negative indices count as out of range).
+def repair(vertices: np.ndarray, faces: np.ndarray, merge_distance: float) -> dict[str, Any]: ...
+def read_and_repair(path: str, merge_distance: float) -> dict[str, Any]: ...
 def default_mesh() -> tuple[np.ndarray, np.ndarray]: ...
 def spectrum(
     vertices: np.ndarray,

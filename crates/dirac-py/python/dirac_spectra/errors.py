@@ -11,7 +11,10 @@ class                  builtin base                raised when
                                                    out of range, repeated index, unreferenced
                                                    vertex, non-finite coordinate, zero-area face,
                                                    degenerate angle, non-manifold edge or vertex,
-                                                   inconsistent orientation, vanishing normal)
+                                                   inconsistent orientation, vanishing normal;
+                                                   the message ends with a pointer to
+                                                   ``repair``), or cannot be repaired (no face
+                                                   left, not orientable: ``face``)
 ``MeshFileError``      ``MeshError``               a mesh file is malformed (the message gives the
                                                    line) or has an unknown extension
 ``OptionsError``       ``ValueError``              an argument has a value that cannot be used:
@@ -109,6 +112,7 @@ class DescriptorError(DiracError, ValueError):
 
 _CLASSES: dict[str, type[Exception]] = {
     "mesh": MeshError,
+    "repair": MeshError,
     "mesh_file": MeshFileError,
     "options": OptionsError,
     "kernel": KernelError,
@@ -133,6 +137,13 @@ def _python_spelling(message: str) -> str:
     return message
 
 
+# Appended to the message of an invalid mesh (not to errors of the repair itself).
+REPAIR_HINT = (
+    " (dirac_spectra.repair(V, F), or read_mesh(path, repair=True), merges duplicated "
+    "vertices, drops degenerate faces, splits non-manifold elements and orients faces)"
+)
+
+
 def _translate(error: Exception, make_partial: Callable[[dict], Any] | None) -> Exception:
     """The documented exception for a ``_native.NativeError(kind, message, details)``."""
     kind, message, details = error.args
@@ -140,6 +151,8 @@ def _translate(error: Exception, make_partial: Callable[[dict], Any] | None) -> 
     if kind == "io":
         # OSError(errno, text) is the subclass for the number: FileNotFoundError, ...
         return OSError(details.get("errno") or errno.EIO, message)
+    if kind == "mesh":
+        message += REPAIR_HINT
     translated = _CLASSES[kind](message)
     for name, value in details.items():
         if name == "partial" and make_partial is not None:

@@ -14,7 +14,7 @@
 //!    edge`, is at most the merge tolerance (a vertex within the tolerance of the opposite
 //!    edge: its cotangent weights would be ~`1/height`, and its area no more than rounding);
 //! 5. glue faces into manifold sheets: an edge of two faces joins them, an edge of more faces
-//!    joins only pairs that shared it before merging ([`glued_edges`](sheets::glued_edges));
+//!    joins only pairs that shared it before merging;
 //! 6. orient each connected sheet consistently (the larger area decides); a non-orientable
 //!    one is [`RepairError::NonOrientable`];
 //! 7. make one vertex per fan of corners (this splits non-manifold edges and vertices, and
