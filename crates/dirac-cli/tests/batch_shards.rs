@@ -160,7 +160,7 @@ fn ctrl_c_leaves_no_partial_file_and_the_next_run_resumes() {
         "--out",
         text(&out),
     ];
-    let mut child = Command::new(env!("CARGO_BIN_EXE_dirac"))
+    let child = Command::new(env!("CARGO_BIN_EXE_dirac"))
         .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())

@@ -23,8 +23,11 @@ use std::process::ExitCode;
 use dirac::TriMesh;
 use dirac::io::{Format, RawMesh, read_mesh};
 
-/// The defects, each a function from the clean mesh to a broken copy.
-const DEFECTS: [(&str, fn(&TriMesh) -> RawMesh); 6] = [
+/// A defect: the clean mesh to a broken copy.
+type Break = fn(&TriMesh) -> RawMesh;
+
+/// The defects and their file-name suffixes.
+const DEFECTS: [(&str, Break); 6] = [
     ("soup", soup),
     ("hole", hole),
     ("fin", fin),

@@ -252,10 +252,10 @@ struct Job<'a> {
 }
 
 impl Job<'_> {
-    /// The mesh file's bytes and their SHA-256, or the failed row.
-    fn read(&self, mesh_path: &Path) -> Result<(Vec<u8>, String), Row> {
-        let bytes = fs::read(mesh_path)
-            .map_err(|error| Row::failed(mesh_path, format!("{}: {error}", mesh_path.display())))?;
+    /// The mesh file's bytes and their SHA-256, or why they cannot be read.
+    fn read(&self, mesh_path: &Path) -> Result<(Vec<u8>, String), String> {
+        let bytes =
+            fs::read(mesh_path).map_err(|error| format!("{}: {error}", mesh_path.display()))?;
         let digest = sha256_hex(&bytes);
         Ok((bytes, digest))
     }
@@ -273,7 +273,7 @@ impl Job<'_> {
         let start = Instant::now();
         let (bytes, digest) = match self.read(mesh_path) {
             Ok(read) => read,
-            Err(row) => return row,
+            Err(error) => return Row::failed(mesh_path, error),
         };
         if !self.args.force
             && let Some(row) = finished(&json, mesh_path, &digest, &self.settings, self.options.k)
