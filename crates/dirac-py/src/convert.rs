@@ -75,7 +75,7 @@ pub fn mesh(
         }
         triangles.push(corners);
     }
-    TriMesh::new(positions, triangles).map_err(|e| mesh_error(py, &e, &e))
+    TriMesh::new(positions, triangles).map_err(|e| mesh_error(py, Kind::InvalidMesh, &e, &e))
 }
 
 /// `(V, F)` of a mesh: `float64 (n, 3)` and `int64 (m, 3)`.

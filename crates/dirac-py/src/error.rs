@@ -25,7 +25,11 @@ pyo3::create_exception!(
 /// What went wrong, in the terms of the Python exception classes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
-    /// `MeshError`: the mesh is invalid (names the face or vertex).
+    /// `MeshError`: the mesh fails validation (names the face or vertex); a repair can fix it,
+    /// and the message says so.
+    InvalidMesh,
+    /// `MeshError`: the mesh cannot be used for another reason (a vanishing normal, a scale
+    /// out of range); no hint to repair.
     Mesh,
     /// `MeshError` raised by a repair (the message carries no hint to repair).
     Repair,
@@ -51,6 +55,7 @@ impl Kind {
     /// The `kind` string the Python package maps to a class.
     fn name(self) -> &'static str {
         match self {
+            Kind::InvalidMesh => "invalid_mesh",
             Kind::Mesh => "mesh",
             Kind::Repair => "repair",
             Kind::MeshFile => "mesh_file",
@@ -83,10 +88,11 @@ pub fn plain(py: Python<'_>, kind: Kind, message: impl ToString) -> PyErr {
 }
 
 /// A `MeshError` whose attributes `face` and `vertex` are the elements `error` names, with
-/// `message` (the error itself, or the error with its file).
-pub fn mesh_error(py: Python<'_>, error: &MeshError, message: impl ToString) -> PyErr {
+/// `message` (the error itself, or the error with its file), of `kind` `InvalidMesh` (a failed
+/// validation) or `Mesh`.
+pub fn mesh_error(py: Python<'_>, kind: Kind, error: &MeshError, message: impl ToString) -> PyErr {
     let (face, vertex) = mesh_elements(error);
-    with_elements(py, Kind::Mesh, message, face, vertex)
+    with_elements(py, kind, message, face, vertex)
 }
 
 /// The face and vertex a [`MeshError`] names.
@@ -149,7 +155,7 @@ fn os_error(py: Python<'_>, source: &std::io::Error, message: impl ToString) -> 
 pub fn read_error(py: Python<'_>, error: &ReadError) -> PyErr {
     match error {
         ReadError::Open { source, .. } => os_error(py, source, error),
-        ReadError::Mesh { source, .. } => mesh_error(py, source, error),
+        ReadError::Mesh { source, .. } => mesh_error(py, Kind::InvalidMesh, source, error),
         _ => plain(py, Kind::MeshFile, error),
     }
 }
@@ -166,7 +172,9 @@ pub fn write_error(py: Python<'_>, error: &WriteError) -> PyErr {
 /// partial result to attach).
 pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
     let kind = match error {
-        SpectrumError::Normalization { source, .. } => return mesh_error(py, source, error),
+        SpectrumError::Normalization { source, .. } => {
+            return mesh_error(py, Kind::Mesh, source, error);
+        }
         SpectrumError::Operator(OperatorError::DegenerateNormal { vertex }) => {
             return with_elements(py, Kind::Mesh, error, None, Some(*vertex));
         }

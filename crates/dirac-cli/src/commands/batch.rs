@@ -404,14 +404,7 @@ fn print_outcome(rows: &[Row], summary: &Path) {
     const LISTED: usize = 20;
     let count = |status: Status| rows.iter().filter(|row| row.status == status).count();
     eprintln!("{} meshes, summary in {}:", rows.len(), summary.display());
-    for status in [
-        Status::Ok,
-        Status::Skipped,
-        Status::NotConverged,
-        Status::Failed,
-        Status::Interrupted,
-        Status::Missing,
-    ] {
+    for status in Status::ALL {
         let n = count(status);
         if n > 0 || matches!(status, Status::Ok | Status::Failed) {
             eprintln!("  {:<14}{n:>7}", status.name());

@@ -111,6 +111,7 @@ class DescriptorError(DiracError, ValueError):
 
 
 _CLASSES: dict[str, type[Exception]] = {
+    "invalid_mesh": MeshError,
     "mesh": MeshError,
     "repair": MeshError,
     "mesh_file": MeshFileError,
@@ -151,7 +152,7 @@ def _translate(error: Exception, make_partial: Callable[[dict], Any] | None) -> 
     if kind == "io":
         # OSError(errno, text) is the subclass for the number: FileNotFoundError, ...
         return OSError(details.get("errno") or errno.EIO, message)
-    if kind == "mesh":
+    if kind == "invalid_mesh":
         message += REPAIR_HINT
     translated = _CLASSES[kind](message)
     for name, value in details.items():

@@ -26,7 +26,8 @@ pub enum Status {
 }
 
 impl Status {
-    const ALL: [Status; 6] = [
+    /// Every status, in the order of reports.
+    pub const ALL: [Status; 6] = [
         Status::Ok,
         Status::Skipped,
         Status::NotConverged,
