@@ -211,3 +211,77 @@ fn ctrl_c_leaves_no_partial_file_and_the_next_run_resumes() {
         assert_eq!(after, expected, "{name}");
     }
 }
+
+#[test]
+fn saved_arrays_sit_beside_the_json_and_count_for_completeness() {
+    use ndarray::{Array1, Array2, Array3};
+    use ndarray_npy::read_npy;
+
+    let dir = scratch("batch_save");
+    let input = dir.join("meshes");
+    meshes(&input, 2, 1);
+    let out = dir.join("out");
+    let run = |save: &str| {
+        dirac(&[
+            "batch",
+            text(&input),
+            "--operator",
+            "laplace",
+            "-k",
+            "6",
+            "--out",
+            text(&out),
+            "--save",
+            save,
+            "-q",
+        ])
+    };
+    assert_eq!(run("eigenvectors").status.code(), Some(0));
+    // The JSON of the first run lacks hks: the mesh is computed again, not skipped.
+    let output = run("eigenvectors,hks");
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let summary = rows(&out.join("summary.csv"));
+    assert!(
+        summary.iter().all(|(_, status, _)| status == "ok"),
+        "{summary:?}"
+    );
+
+    let report: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("m0.off.json")).expect("the JSON"))
+            .expect("valid JSON");
+    let lambda: Vec<f64> = report["eigenvalues"]
+        .as_array()
+        .expect("eigenvalues")
+        .iter()
+        .map(|v| v.as_f64().expect("a number"))
+        .collect();
+    let times: Vec<f64> = report["saved"]["hks"]["parameters"]
+        .as_array()
+        .expect("the times")
+        .iter()
+        .map(|v| v.as_f64().expect("a number"))
+        .collect();
+    let phi: Array3<f64> = read_npy(out.join("m0.off.eigenvectors.npy")).expect("the .npy");
+    let hks: Array2<f64> = read_npy(out.join("m0.off.hks.npy")).expect("the .npy");
+    let n = report["vertices"].as_u64().expect("vertices") as usize;
+    assert_eq!(phi.shape(), [n, 6, 4]);
+    assert_eq!(hks.shape(), [n, times.len()]);
+    // HKS(v, t) = Σ_i e^{−tλ_i} |φ_i(v)|², from the saved eigenpairs.
+    for v in [0, n / 2, n - 1] {
+        for (j, &t) in times.iter().enumerate().step_by(17) {
+            let squares =
+                Array1::from_shape_fn(6, |i| (0..4).map(|c| phi[[v, i, c]].powi(2)).sum::<f64>());
+            let expected: f64 = (0..6).map(|i| (-t * lambda[i]).exp() * squares[i]).sum();
+            let got = hks[[v, j]];
+            assert!(
+                (got - expected).abs() <= 1e-10 * expected.abs(),
+                "{got} vs {expected}"
+            );
+        }
+    }
+
+    // hks needs the Laplacian.
+    let wrong = dirac(&["batch", text(&input), "--out", text(&out), "--save", "hks"]);
+    assert_eq!(wrong.status.code(), Some(2));
+    assert!(partial_files(&out).is_empty());
+}

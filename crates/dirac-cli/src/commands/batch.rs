@@ -33,6 +33,7 @@
 
 mod merge;
 mod publish;
+mod saved;
 mod shard;
 mod summary;
 
@@ -45,18 +46,20 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Args;
+use clap::error::ErrorKind;
 use dirac::io::{Format, parse_raw};
-use dirac::spectrum::SpectrumOptions;
+use dirac::spectrum::{Operator, SpectrumOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 
 use self::publish::publish;
+pub use self::saved::Saved;
 pub use self::shard::Shard;
 use self::summary::{Row, Status, write_summary};
 use crate::common::error::{CliError, INTERRUPTED};
-use crate::common::parsers::positive_count;
+use crate::common::parsers::{positive_count, value_name};
 use crate::common::preparation::PreparedMesh;
 use crate::common::report::{Report, RunSettings, write_json};
 use crate::common::solve::solve_until;
@@ -120,6 +123,12 @@ pub struct BatchArgs {
     /// order), checking each complete result against these options.
     #[arg(long)]
     pub merge: bool,
+
+    /// Also write these arrays per mesh beside its JSON, comma-separated: `eigenvectors`
+    /// (n × k × 4), `hks` (needs --operator laplace), `dks`, `wks` (n × 100 at the default
+    /// times or energies, listed in the JSON). A result is complete only with them.
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "WHAT")]
+    pub save: Vec<Saved>,
 
     /// Recompute meshes whose output is already complete.
     #[arg(long, conflicts_with = "merge")]
@@ -211,10 +220,27 @@ fn sha256_hex(bytes: &[u8]) -> String {
 }
 
 /// The summary row of a complete earlier result, or `None` when `json` is missing,
-/// incomplete, of another mesh (another content hash) or from other settings.
-fn finished(json: &Path, mesh: &Path, digest: &str, settings: &Value, k: usize) -> Option<Row> {
+/// incomplete, of another mesh (another content hash), from other settings, or lacks one of
+/// the arrays `saved` (beside it).
+fn finished(
+    json: &Path,
+    mesh: &Path,
+    digest: &str,
+    settings: &Value,
+    k: usize,
+    saved: &[Saved],
+) -> Option<Row> {
     let report: Value = serde_json::from_str(&fs::read_to_string(json).ok()?).ok()?;
     if report["mesh_sha256"].as_str() != Some(digest) {
+        return None;
+    }
+    let directory = json.parent()?;
+    let has_arrays = saved.iter().all(|what| {
+        report["saved"][value_name(what)]["file"]
+            .as_str()
+            .is_some_and(|file| directory.join(file).is_file())
+    });
+    if !has_arrays {
         return None;
     }
     let same_settings = settings
@@ -276,7 +302,14 @@ impl Job<'_> {
             Err(error) => return Row::failed(mesh_path, error),
         };
         if !self.args.force
-            && let Some(row) = finished(&json, mesh_path, &digest, &self.settings, self.options.k)
+            && let Some(row) = finished(
+                &json,
+                mesh_path,
+                &digest,
+                &self.settings,
+                self.options.k,
+                &self.args.save,
+            )
         {
             return row;
         }
@@ -330,6 +363,20 @@ impl Job<'_> {
                     );
                     Status::NotConverged
                 };
+                if solved.converged {
+                    for &what in &self.args.save {
+                        match what.write(&solved.spectrum, &self.args.out, mesh_path) {
+                            Ok(array) => {
+                                report.saved.insert(value_name(&what), array);
+                            }
+                            Err(error) => {
+                                row.status = Status::Failed;
+                                row.error = error;
+                                return row;
+                            }
+                        }
+                    }
+                }
                 row.eigenvalues = solved.spectrum.eigenvalues;
                 if let Err(error) = publish(&json, |w| write_json(&report, w)) {
                     row.status = Status::Failed;
@@ -456,7 +503,14 @@ fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, CliError> {
     for row in rows.iter_mut().filter(|row| row.status.is_complete()) {
         let json = json_path(&job.args.out, &row.mesh);
         let complete = job.read(&row.mesh).ok().and_then(|(_, digest)| {
-            finished(&json, &row.mesh, &digest, &job.settings, job.options.k)
+            finished(
+                &json,
+                &row.mesh,
+                &digest,
+                &job.settings,
+                job.options.k,
+                &job.args.save,
+            )
         });
         if complete.is_none() {
             *row = Row::failed(
@@ -477,6 +531,13 @@ fn merged_rows(job: &Job, meshes: &[PathBuf]) -> Result<Vec<Row>, CliError> {
 /// [`CliError::SomeFailed`] when some mesh is not, [`CliError::Interrupted`] after Ctrl-C.
 pub fn run(args: &BatchArgs) -> Result<(), CliError> {
     let options = args.solve.options();
+    if args.save.contains(&Saved::Hks) && options.operator != Operator::Laplace {
+        return Err(CliError::usage(
+            ErrorKind::ArgumentConflict,
+            "--save hks is the heat kernel signature of the Laplacian: add --operator laplace \
+             (dks and wks are those of --operator)",
+        ));
+    }
     let all = inputs(&args.input)?;
     fs::create_dir_all(&args.out).map_err(|source| CliError::Io {
         path: args.out.clone(),
@@ -565,7 +626,7 @@ mod tests {
         );
         fs::write(&json, text).expect("the temporary directory is writable");
         let settings = serde_json::json!({ "k": 1 });
-        let row = finished(&json, Path::new("m.off"), "00", &settings, 1);
+        let row = finished(&json, Path::new("m.off"), "00", &settings, 1, &[]);
         let _ = fs::remove_file(&json);
         let row = row.expect("a complete output");
         assert_eq!(row.status, Status::Skipped);

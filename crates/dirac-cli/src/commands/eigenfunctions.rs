@@ -17,11 +17,10 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use clap::error::ErrorKind;
 use dirac::io::{PlyWriteOptions, write_ply};
-use dirac::spectrum::Spectrum;
-use ndarray::{Array1, Array3};
+use ndarray::Array1;
 
 use crate::common::error::CliError;
-use crate::common::files::{has_extension, write_array};
+use crate::common::files::{eigenvector_array, has_extension, write_array};
 use crate::common::preparation::PreparedMesh;
 use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
@@ -123,14 +122,6 @@ fn output(args: &EigenfunctionsArgs) -> Result<Output, CliError> {
             ),
         ))
     }
-}
-
-/// The eigenvectors as an `n × k × 4` array of `(w, x, y, z)`.
-fn eigenvector_array(spectrum: &Spectrum, vertices: usize) -> Array3<f64> {
-    Array3::from_shape_fn((vertices, spectrum.eigenvectors.len(), 4), |(v, i, c)| {
-        let q = spectrum.eigenvectors[i][v];
-        [q.w, q.x, q.y, q.z][c]
-    })
 }
 
 /// Runs `dirac eigenfunctions`: writes the pairs, then fails with [`CliError::NotConverged`]

@@ -4,7 +4,8 @@ use std::ffi::OsStr;
 use std::io::{self, Write};
 use std::path::Path;
 
-use ndarray::{Array, Dimension};
+use dirac::spectrum::Spectrum;
+use ndarray::{Array, Array3, Dimension};
 use ndarray_npy::write_npy;
 
 use crate::common::error::CliError;
@@ -14,6 +15,14 @@ pub fn write_array<D: Dimension>(path: &Path, array: &Array<f64, D>) -> Result<(
     write_npy(path, array).map_err(|source| CliError::Npy {
         path: path.to_path_buf(),
         source,
+    })
+}
+
+/// The eigenvectors as an `n × k × 4` array of `(w, x, y, z)`.
+pub fn eigenvector_array(spectrum: &Spectrum, vertices: usize) -> Array3<f64> {
+    Array3::from_shape_fn((vertices, spectrum.eigenvectors.len(), 4), |(v, i, c)| {
+        let q = spectrum.eigenvectors[i][v];
+        [q.w, q.x, q.y, q.z][c]
     })
 }
 

@@ -1,6 +1,7 @@
 //! What `dirac spectrum` prints and `dirac batch` writes: one [`Report`], as tables for people
 //! or as one JSON object.
 
+use std::collections::BTreeMap;
 use std::io::{self, Write};
 use std::time::Duration;
 
@@ -27,6 +28,10 @@ pub struct Report {
     pub faces: usize,
     /// What `--repair` and `--component` did.
     pub preparation: Option<PreparationReport>,
+    /// `dirac batch --save`: the arrays written beside the JSON, by name (`eigenvectors`,
+    /// `hks`, …).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub saved: BTreeMap<String, SavedArray>,
     /// Boundary loops, components and genus (human output only).
     #[serde(skip)]
     pub topology: Topology,
@@ -58,6 +63,17 @@ pub struct KernelReport {
     pub flat_vertices: usize,
     /// Connected pieces of the other vertices whose constant function is in the kernel.
     pub constants: usize,
+}
+
+/// An array written beside a batch's JSON (`--save`).
+#[derive(Debug, Serialize)]
+pub struct SavedArray {
+    /// Its file name, in the same directory as the JSON.
+    pub file: String,
+    /// Its shape.
+    pub shape: Vec<usize>,
+    /// The times (`hks`, `dks`) or log-energies (`wks`) of its columns; empty for eigenvectors.
+    pub parameters: Vec<f64>,
 }
 
 /// The options of a run, as [`Report`] and the JSON name them.
@@ -173,6 +189,7 @@ impl Report {
             mesh: name,
             mesh_sha256: None,
             preparation: None,
+            saved: BTreeMap::new(),
             vertices: mesh.vertex_count(),
             faces: mesh.face_count(),
             topology: mesh.topology(),
