@@ -21,7 +21,7 @@
 //!   shards' summaries into `summary.csv` ([`shard`], [`merge`]).
 //!
 //! Every file is published whole: written under a unique temporary name in `--out`, synced and
-//! renamed ([`publish`]), so concurrent runs on one directory never see half a file. Ctrl-C
+//! renamed ([`mod@publish`]), so concurrent runs on one directory never see half a file. Ctrl-C
 //! stops the solves in progress within one restart of the eigensolver, writes the summary
 //! (the unfinished meshes `interrupted`) and exits 130; the next run resumes. A second Ctrl-C
 //! exits at once.

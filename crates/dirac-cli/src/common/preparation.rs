@@ -20,8 +20,9 @@ pub const DEFAULT_MESH_NAME: &str = "spot (built-in)";
 #[derive(Debug, Clone, Args)]
 pub struct MeshPreparation {
     /// Repair the mesh first: merge vertices closer than --merge-distance, drop faces that
-    /// name missing vertices, repeat a vertex, duplicate another or have zero area or a
-    /// degenerate angle, split non-manifold edges and vertices, orient every component
+    /// name missing vertices, repeat a vertex, duplicate another, have zero area or a
+    /// degenerate angle or are slivers thinner than the merge distance, split non-manifold
+    /// edges and vertices, orient every component
     /// consistently and drop unused vertices. Every change is reported (and recorded in JSON
     /// output). Without it an invalid mesh is an error that names the defect.
     #[arg(long, help_heading = "Mesh")]
