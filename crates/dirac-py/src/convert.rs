@@ -68,7 +68,7 @@ pub fn mesh(
             *corner = usize::try_from(index).map_err(|_| {
                 plain(
                     py,
-                    Kind::Mesh,
+                    Kind::InvalidMesh,
                     format!("face {face} refers to vertex {index}; indices start at 0"),
                 )
             })?;
