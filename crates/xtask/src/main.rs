@@ -145,11 +145,19 @@ fn test() -> Result<(), TaskError> {
         "the Python package (pip install crates/dirac-py)",
         &["--force-reinstall", "--no-deps", "crates/dirac-py"],
     )?;
-    let binary = root.join("target").join("release").join("dirac");
+    let binary = target_directory(&root).join("release").join("dirac");
     run_with(
         "Python tests (pytest crates/dirac-py/tests)",
         Command::new(&python)
             .args(["-m", "pytest", "-q", "crates/dirac-py/tests"])
             .env("DIRAC_BIN", binary),
     )
+}
+
+/// Where cargo puts what it builds: `CARGO_TARGET_DIR` (relative to the workspace when
+/// relative), else `target/` of the workspace, so the tests find the binary cargo just built.
+fn target_directory(root: &Path) -> PathBuf {
+    env::var_os("CARGO_TARGET_DIR")
+        .map(|dir| root.join(dir))
+        .unwrap_or_else(|| root.join("target"))
 }
