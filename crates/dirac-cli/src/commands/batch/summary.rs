@@ -7,6 +7,7 @@
 
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 /// How one mesh went.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -138,6 +139,21 @@ pub fn write_summary(rows: &[Row], k: usize, out: impl Write) -> io::Result<()> 
     writer.flush()
 }
 
+/// The message of a field of summary line `line` that is not a valid `what`.
+fn invalid(line: u64, what: &str, text: &str) -> String {
+    format!("line {line}: `{text}` is not a valid {what}")
+}
+
+/// The field `text` of summary line `line` as a `what`; `None` when it is empty.
+fn optional<T: FromStr>(line: u64, what: &str, text: &str) -> Result<Option<T>, String> {
+    if text.is_empty() {
+        return Ok(None);
+    }
+    text.parse()
+        .map(Some)
+        .map_err(|_| invalid(line, what, text))
+}
+
 /// Reads a summary written by [`write_summary`]; an error names the line that is wrong.
 pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
     let mut reader = csv::ReaderBuilder::new().flexible(true).from_reader(input);
@@ -150,33 +166,24 @@ pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
         ));
     }
     let mut rows = Vec::new();
-    for (index, record) in reader.records().enumerate() {
-        let line = index + 2;
-        let record = record.map_err(|e| format!("line {line}: {e}"))?;
+    for record in reader.records() {
+        let record = record.map_err(|e| e.to_string())?;
+        // The line where the record starts (a quoted field may span lines).
+        let line = record.position().map_or(0, |p| p.line());
         let field = |i: usize| record.get(i).unwrap_or("");
-        let bad = |what: &str, value: &str| format!("line {line}: `{value}` is not a valid {what}");
-        let number = |i: usize, what: &str| -> Result<Option<u64>, String> {
-            let text = field(i);
-            (!text.is_empty())
-                .then(|| text.parse().map_err(|_| bad(what, text)))
-                .transpose()
-        };
-        let status = Status::from_name(field(1)).ok_or_else(|| bad("status", field(1)))?;
-        let seconds = field(5);
+        let status =
+            Status::from_name(field(1)).ok_or_else(|| invalid(line, "status", field(1)))?;
         let eigenvalues = record
             .iter()
             .skip(FIXED_COLUMNS.len())
-            .filter(|text| !text.is_empty())
-            .map(|text| text.parse::<f64>().map_err(|_| bad("eigenvalue", text)))
+            .filter_map(|text| optional(line, "eigenvalue", text).transpose())
             .collect::<Result<_, _>>()?;
         rows.push(Row {
             mesh: PathBuf::from(field(0)),
             status,
-            vertices: number(2, "vertex count")?,
-            faces: number(3, "face count")?,
-            seconds: (!seconds.is_empty())
-                .then(|| seconds.parse().map_err(|_| bad("time", seconds)))
-                .transpose()?,
+            vertices: optional(line, "vertex count", field(2))?,
+            faces: optional(line, "face count", field(3))?,
+            seconds: optional(line, "time", field(5))?,
             error: field(6).to_string(),
             eigenvalues,
         });
