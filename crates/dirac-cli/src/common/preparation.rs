@@ -5,7 +5,7 @@ use std::path::Path;
 
 use clap::Args;
 use clap::error::ErrorKind;
-use dirac::io::{RawMesh, ReadError, read_raw};
+use dirac::io::{RawMesh, read_raw};
 use dirac::repair::{RepairOptions, RepairReport, repair};
 use dirac::{ComponentSelection, TriMesh, default_mesh};
 use serde::Serialize;
@@ -130,11 +130,7 @@ impl MeshPreparation {
                 })?;
             (repaired.mesh, Some(repaired.report))
         } else {
-            let mesh = raw.into_mesh().map_err(|source| ReadError::Mesh {
-                path: path.to_path_buf(),
-                source,
-            })?;
-            (mesh, None)
+            (raw.into_mesh_of(path)?, None)
         };
         let components = mesh.topology().components.len();
         let mesh = match self.options.component {

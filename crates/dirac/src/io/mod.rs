@@ -37,6 +37,15 @@ impl RawMesh {
         TriMesh::new(self.positions, self.faces)
     }
 
+    /// Validates into a [`TriMesh`], as read from the file `path`: an invalid mesh is the
+    /// [`ReadError::Mesh`] naming it.
+    pub fn into_mesh_of(self, path: &Path) -> Result<TriMesh, ReadError> {
+        self.into_mesh().map_err(|source| ReadError::Mesh {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
     /// Validates into a [`TriMesh`], dropping vertices no face uses
     /// ([`TriMesh::with_unreferenced_removed`]; returns the renumbering too).
     pub fn into_mesh_removing_unreferenced(
@@ -346,12 +355,7 @@ pub fn parse_raw(path: &Path, bytes: &[u8]) -> Result<RawMesh, ReadError> {
 /// Parses and validates the contents of the mesh file `path`: [`read_mesh`] for bytes
 /// already in memory.
 pub fn parse_mesh(path: &Path, bytes: &[u8]) -> Result<TriMesh, ReadError> {
-    parse_raw(path, bytes)?
-        .into_mesh()
-        .map_err(|source| ReadError::Mesh {
-            path: path.to_path_buf(),
-            source,
-        })
+    parse_raw(path, bytes)?.into_mesh_of(path)
 }
 
 /// The bytes of `path`; an unknown extension fails before the file is read.
