@@ -285,3 +285,32 @@ fn saved_arrays_sit_beside_the_json_and_count_for_completeness() {
     assert_eq!(wrong.status.code(), Some(2));
     assert!(partial_files(&out).is_empty());
 }
+
+#[test]
+fn a_merge_of_an_interrupted_shard_is_incomplete_not_interrupted() {
+    let dir = scratch("batch_merge_interrupted");
+    let input = dir.join("meshes");
+    meshes(&input, 2, 1);
+    let out = dir.join("out");
+    let run = |extra: &str| {
+        dirac(&[
+            "batch",
+            text(&input),
+            "-k",
+            "3",
+            "--out",
+            text(&out),
+            "-q",
+            extra,
+        ])
+    };
+    assert_eq!(run("--shard=1/1").status.code(), Some(0));
+    // As a shard stopped by Ctrl-C would have written it.
+    let summary = out.join("summary-1-of-1.csv");
+    let text = fs::read_to_string(&summary).expect("the shard summary");
+    let stopped = text.replacen(",ok,", ",interrupted,", 1);
+    assert_ne!(stopped, text);
+    fs::write(&summary, stopped).expect("the summary is writable");
+    let merged = run("--merge");
+    assert_eq!(merged.status.code(), Some(4), "{}", stderr(&merged));
+}

@@ -352,17 +352,15 @@ impl Job<'_> {
             Ok(solved) => {
                 report.set_spectrum(&solved.spectrum, solved.elapsed);
                 report.converged = solved.converged;
-                row.status = if solved.converged {
-                    Status::Ok
-                } else {
-                    row.error = format!(
-                        "{name}: the eigensolver converged only {} of {} eigenvalues (try a \
-                         larger --tolerance, more --max-restarts or another --seed)",
-                        solved.spectrum.eigenvalues.len(),
-                        self.options.k
-                    );
-                    Status::NotConverged
-                };
+                // What converged is in the JSON; the message is the command line's own.
+                row.status =
+                    match solved.check_converged(&name, self.options.k, "the JSON holds those") {
+                        Ok(()) => Status::Ok,
+                        Err(error) => {
+                            row.error = error.to_string();
+                            Status::NotConverged
+                        }
+                    };
                 if solved.converged {
                     for &what in &self.args.save {
                         match what.write(&solved.spectrum, &self.args.out, mesh_path) {
@@ -425,7 +423,7 @@ impl MeshProgress {
     /// Reports a finished mesh: its error always, its line without a terminal.
     fn finished(&self, row: &Row) {
         let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
-        let failed = matches!(row.status, Status::Failed | Status::NotConverged);
+        let failed = row.status.is_failure();
         if self.lines {
             let what = if failed {
                 format!("{}: {}", row.status.name(), row.error)
@@ -457,15 +455,7 @@ fn print_outcome(rows: &[Row], summary: &Path) {
             eprintln!("  {:<14}{n:>7}", status.name());
         }
     }
-    let unfinished: Vec<&Row> = rows
-        .iter()
-        .filter(|row| {
-            matches!(
-                row.status,
-                Status::Failed | Status::NotConverged | Status::Missing
-            )
-        })
-        .collect();
+    let unfinished: Vec<&Row> = rows.iter().filter(|row| row.status.is_failure()).collect();
     if !unfinished.is_empty() {
         eprintln!("not complete:");
         for row in unfinished.iter().take(LISTED) {
@@ -597,7 +587,9 @@ pub fn run(args: &BatchArgs) -> Result<(), CliError> {
     let summary = write_summary_file(&args.out, &summary_name, &rows, job.options.k)?;
     print_outcome(&rows, &summary);
     let incomplete = rows.iter().filter(|row| !row.status.is_complete()).count();
-    if rows.iter().any(|row| row.status == Status::Interrupted) {
+    // Exit 130 only when this run was stopped: in a merge, a shard's interrupted rows are
+    // incomplete (exit 4).
+    if interrupted() && rows.iter().any(|row| row.status == Status::Interrupted) {
         Err(CliError::Interrupted { summary })
     } else if incomplete > 0 {
         Err(CliError::SomeFailed {

@@ -49,6 +49,16 @@ impl Status {
         }
     }
 
+    /// Whether the mesh has no complete result for a reason the user must act on (reported
+    /// with its error): failed, not converged or missing from a merge. An interrupted mesh is
+    /// not a failure: the next run computes it.
+    pub fn is_failure(self) -> bool {
+        matches!(
+            self,
+            Status::Failed | Status::NotConverged | Status::Missing
+        )
+    }
+
     /// Whether the mesh's result is complete (computed now or earlier).
     pub fn is_complete(self) -> bool {
         matches!(self, Status::Ok | Status::Skipped)
