@@ -5,6 +5,18 @@ use qsparse::{SparseMatrix, TripletMatrix};
 
 use crate::TriMesh;
 
+/// The corners `(low, high)` of the axis-aligned bounding box of `points`, or `None` when
+/// there are none.
+pub fn bounding_box(points: impl IntoIterator<Item = [f64; 3]>) -> Option<([f64; 3], [f64; 3])> {
+    points.into_iter().fold(None, |bounds, p| {
+        let (low, high) = bounds.unwrap_or((p, p));
+        Some((
+            std::array::from_fn(|c| low[c].min(p[c])),
+            std::array::from_fn(|c| high[c].max(p[c])),
+        ))
+    })
+}
+
 /// `a − b`.
 pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use dirac::TriMesh;
+use dirac::geometry::{bounding_box, norm, sub};
 use dirac::io::{Format, RawMesh, read_mesh};
 
 /// A defect: the clean mesh to a broken copy.
@@ -59,20 +60,15 @@ fn hole(mesh: &TriMesh) -> RawMesh {
     broken
 }
 
+/// The bounding box of the mesh.
+fn bounds(mesh: &TriMesh) -> ([f64; 3], [f64; 3]) {
+    bounding_box(mesh.positions().iter().copied()).unwrap_or_default()
+}
+
 /// The length of the bounding box's diagonal.
 fn diagonal(mesh: &TriMesh) -> f64 {
-    let mut low = [f64::INFINITY; 3];
-    let mut high = [f64::NEG_INFINITY; 3];
-    for p in mesh.positions() {
-        for c in 0..3 {
-            low[c] = low[c].min(p[c]);
-            high[c] = high[c].max(p[c]);
-        }
-    }
-    (0..3)
-        .map(|c| (high[c] - low[c]).powi(2))
-        .sum::<f64>()
-        .sqrt()
+    let (low, high) = bounds(mesh);
+    norm(sub(high, low))
 }
 
 fn fin(mesh: &TriMesh) -> RawMesh {
@@ -98,12 +94,7 @@ fn flipped(mesh: &TriMesh) -> RawMesh {
 fn stray(mesh: &TriMesh) -> RawMesh {
     let mut broken = raw(mesh);
     let size = 0.05 * diagonal(mesh);
-    let corner = mesh
-        .positions()
-        .iter()
-        .fold([f64::NEG_INFINITY; 3], |m, p| {
-            [0, 1, 2].map(|i| m[i].max(p[i]))
-        });
+    let (_, corner) = bounds(mesh);
     let base = [0, 1, 2].map(|i| corner[i] + size);
     let first = broken.positions.len();
     broken.positions.extend([

@@ -1,7 +1,7 @@
 //! The camera: a view direction from azimuth and elevation, placed on the mesh's bounding
 //! sphere, and the projection of vertices to pixel coordinates framed to fill a viewport.
 
-use dirac::geometry::{dot, norm, sub};
+use dirac::geometry::{bounding_box, dot, norm, sub};
 
 use super::{Projection, View};
 
@@ -43,14 +43,7 @@ impl Camera {
     /// Looks from `view` at the bounding sphere of `positions` (centre of the bounding box,
     /// radius to the farthest vertex). `positions` must not be empty.
     pub fn new(positions: &[[f64; 3]], view: View, projection: Projection) -> Self {
-        let mut low = [f64::INFINITY; 3];
-        let mut high = [f64::NEG_INFINITY; 3];
-        for p in positions {
-            for c in 0..3 {
-                low[c] = low[c].min(p[c]);
-                high[c] = high[c].max(p[c]);
-            }
-        }
+        let (low, high) = bounding_box(positions.iter().copied()).unwrap_or_default();
         let center: [f64; 3] = std::array::from_fn(|c| 0.5 * (low[c] + high[c]));
         let radius = positions
             .iter()

@@ -3,6 +3,7 @@
 use std::collections::HashMap;
 
 use crate::disjoint_sets::DisjointSets;
+use crate::geometry::bounding_box;
 
 /// The Euclidean distance `|a − b|`, by `hypot` so that it neither underflows nor overflows
 /// before the result does (and is never below a coordinate difference, which the grid relies on).
@@ -10,28 +11,22 @@ pub(super) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1]).hypot(a[2] - b[2])
 }
 
-/// The corners of the bounding box of the points `p[v]` with `selected[v]`, or `None` if none
-/// is selected.
-fn bounding_box(positions: &[[f64; 3]], selected: &[bool]) -> Option<([f64; 3], [f64; 3])> {
-    positions
-        .iter()
-        .zip(selected)
-        .filter(|&(_, &s)| s)
-        .map(|(p, _)| *p)
-        .fold(None, |bounds, p| {
-            let (lo, hi) = bounds.unwrap_or((p, p));
-            Some((
-                std::array::from_fn(|c| lo[c].min(p[c])),
-                std::array::from_fn(|c| hi[c].max(p[c])),
-            ))
-        })
+/// The bounding box of the points `p[v]` with `selected[v]`, or `None` if none is selected.
+fn selected_box(positions: &[[f64; 3]], selected: &[bool]) -> Option<([f64; 3], [f64; 3])> {
+    bounding_box(
+        positions
+            .iter()
+            .zip(selected)
+            .filter(|&(_, &s)| s)
+            .map(|(p, _)| *p),
+    )
 }
 
 /// The absolute tolerance `merge_distance · d`, `d` the diagonal of the bounding box of the
 /// selected points (`0` without any; may be infinite for coordinates near `±f64::MAX`).
 pub(super) fn tolerance(positions: &[[f64; 3]], selected: &[bool], merge_distance: f64) -> f64 {
     // Not `0 · ∞`: zero merges only equal points even when the box overflows.
-    match bounding_box(positions, selected) {
+    match selected_box(positions, selected) {
         Some((lo, hi)) if merge_distance != 0.0 => {
             let extent: [f64; 3] = std::array::from_fn(|c| hi[c] - lo[c]);
             merge_distance * extent[0].hypot(extent[1]).hypot(extent[2])
@@ -54,7 +49,7 @@ pub(super) fn clusters(
     merge_distance: f64,
 ) -> Vec<usize> {
     let mut sets = DisjointSets::new(positions.len());
-    if let Some((lo, hi)) = bounding_box(positions, selected) {
+    if let Some((lo, hi)) = selected_box(positions, selected) {
         let extent: [f64; 3] = std::array::from_fn(|c| hi[c] - lo[c]);
         let tolerance = tolerance(positions, selected, merge_distance);
         let members = (0..positions.len()).filter(|&v| selected[v]);
