@@ -1,6 +1,7 @@
 //! Preparing the mesh named on the command line: `--repair` (on request) and `--component`,
 //! shared by every command that reads a mesh, and what they did, for reports.
 
+use std::fmt::Display;
 use std::path::Path;
 
 use clap::Args;
@@ -8,7 +9,7 @@ use clap::error::ErrorKind;
 use dirac::io::{RawMesh, read_raw};
 use dirac::repair::{RepairOptions, RepairReport, repair};
 use dirac::{ComponentSelection, TriMesh, default_mesh};
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 
 use crate::common::error::CliError;
 use crate::common::parsers::nonnegative_real;
@@ -66,8 +67,14 @@ pub struct PreparationReport {
     pub repair: Option<RepairReport>,
     /// Connected components before `--component` selected.
     pub components: usize,
-    /// The `--component` value.
-    pub component: String,
+    /// The `--component` value (written as on the command line).
+    #[serde(serialize_with = "as_text")]
+    pub component: ComponentSelection,
+}
+
+/// Serialises `value` as its `Display` text.
+fn as_text<S: Serializer>(value: &impl Display, serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.collect_str(value)
 }
 
 /// A mesh ready for its spectrum, with its name for messages and what was done to it.
@@ -150,7 +157,7 @@ impl MeshPreparation {
             report: PreparationReport {
                 repair: repair_report,
                 components,
-                component: self.options.component.to_string(),
+                component: self.options.component,
             },
         })
     }
@@ -177,7 +184,7 @@ impl PreparedMesh {
                     "note: {name}: every face is a component of its own (a triangle soup, as \
                      STL files store meshes); --repair merges the coincident vertices"
                 );
-            } else if self.report.component == "all" {
+            } else if self.report.component == ComponentSelection::All {
                 eprintln!(
                     "note: {name}: {components} connected components, used together (each adds \
                      a zero eigenvalue to the Laplacian; --component largest selects one)"
