@@ -97,10 +97,15 @@ impl Command {
 /// Runs the subcommand: applies the process-wide `--single-thread` first, and formats a usage
 /// error of the command with its usage line, as clap formats its own.
 pub fn dispatch(command: &Command) -> Result<(), CliError> {
-    if let Some(solve) = command.solve_args() {
-        solve.apply_thread_setting();
-    }
-    let outcome = match command {
+    // What every solving command checks and sets before it runs.
+    let prepared = match command.solve_args() {
+        Some(solve) => {
+            solve.apply_thread_setting();
+            solve.preparation.check()
+        }
+        None => Ok(()),
+    };
+    let outcome = prepared.and_then(|()| match command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Eigenfunctions(args) => eigenfunctions::run(args),
         Command::Descriptor(args) => descriptor::run(args),
@@ -108,7 +113,7 @@ pub fn dispatch(command: &Command) -> Result<(), CliError> {
         Command::Render(args) => render::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Repair(args) => repair::run(args),
-    };
+    });
     outcome.map_err(|error| match error {
         CliError::Usage(usage) => CliError::Usage(with_usage_line(usage, command.path())),
         other => other,

@@ -143,6 +143,17 @@ fn invalid_meshes_name_the_defect_and_the_repair() {
     );
     let alone = dirac(&["spectrum", text(&fin), "--merge-distance", "1e-6"]);
     assert_eq!(alone.status.code(), Some(2));
+    // Also in a batch, which prepares each mesh itself.
+    let out = dir.join("out");
+    let batch = dirac(&[
+        "batch",
+        text(&dir),
+        "--merge-distance",
+        "1e-6",
+        "--out",
+        text(&out),
+    ]);
+    assert_eq!(batch.status.code(), Some(2), "{}", stderr(&batch));
 }
 
 #[test]

@@ -91,7 +91,6 @@ impl MeshPreparation {
     /// The mesh at `path` (or the built-in one), prepared; notes on stderr (unless `quiet`)
     /// say what was repaired or selected.
     pub fn load(&self, path: Option<&Path>, quiet: bool) -> Result<PreparedMesh, CliError> {
-        self.check()?;
         let (raw, name) = match path {
             Some(path) => (read_raw(path)?, path.display().to_string()),
             None => {
@@ -110,7 +109,8 @@ impl MeshPreparation {
         Ok(prepared)
     }
 
-    /// `--merge-distance` only with `--repair`.
+    /// `--merge-distance` only with `--repair` (checked by the dispatcher for every command,
+    /// since clap cannot relate the two across `dirac repair`, which has no `--repair`).
     pub fn check(&self) -> Result<(), CliError> {
         if self.options.merge_distance.is_some() && !self.repair {
             return Err(CliError::usage(
