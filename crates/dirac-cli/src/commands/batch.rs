@@ -204,11 +204,17 @@ fn inputs(input: &Path) -> Result<Vec<PathBuf>, CliError> {
     Ok(meshes)
 }
 
+/// `DIR/<file name of mesh>.<suffix>`: where a mesh's outputs go.
+fn output_path(out: &Path, mesh: &Path, suffix: &str) -> PathBuf {
+    let mut name = mesh.file_name().unwrap_or(mesh.as_os_str()).to_os_string();
+    name.push(".");
+    name.push(suffix);
+    out.join(name)
+}
+
 /// `DIR/<file name of mesh>.json`.
 fn json_path(out: &Path, mesh: &Path) -> PathBuf {
-    let mut name = mesh.file_name().unwrap_or(mesh.as_os_str()).to_os_string();
-    name.push(".json");
-    out.join(name)
+    output_path(out, mesh, "json")
 }
 
 /// The SHA-256 of `bytes`, in hexadecimal.

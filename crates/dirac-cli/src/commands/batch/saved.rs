@@ -18,6 +18,7 @@ use dirac::spectrum::Spectrum;
 use ndarray::{ArrayD, IxDyn};
 use ndarray_npy::WriteNpyExt;
 
+use super::output_path;
 use super::publish::publish;
 use crate::common::files::eigenvector_array;
 use crate::common::parsers::value_name;
@@ -38,10 +39,8 @@ pub enum Saved {
 
 impl Saved {
     /// `DIR/<mesh file name>.<what>.npy`.
-    pub fn path(self, out: &Path, mesh: &Path) -> PathBuf {
-        let mut name = mesh.file_name().unwrap_or(mesh.as_os_str()).to_os_string();
-        name.push(format!(".{}.npy", value_name(&self)));
-        out.join(name)
+    fn path(self, out: &Path, mesh: &Path) -> PathBuf {
+        output_path(out, mesh, &format!("{}.npy", value_name(&self)))
     }
 
     /// The array of `spectrum` and its parameters (times or log-energies; none for the
