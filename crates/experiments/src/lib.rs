@@ -12,6 +12,8 @@
 //!   correspondence by nearest descriptor (Fig. 12);
 //! * [`flat_vs_curved`]: kernel and small eigenvalues of `D_N` on a cube and a sphere (Fig. 5,
 //!   Fig. 9);
+//! * [`two_surfaces`]: the relative Dirac operator `D_{f1,f2}` of a surface and a deformed copy
+//!   (Fig. 3);
 //! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
 //!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
 //!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
@@ -28,6 +30,7 @@ pub mod plots;
 pub mod report;
 pub mod spectra;
 pub mod tori;
+pub mod two_surfaces;
 
 use thiserror::Error;
 
@@ -72,6 +75,9 @@ pub enum ExperimentError {
     /// A picture could not be rendered.
     #[error(transparent)]
     Render(#[from] dirac_cli::render::RenderError),
+    /// A mesh file could not be written.
+    #[error(transparent)]
+    WriteMesh(#[from] dirac::io::WriteError),
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] std::io::Error),

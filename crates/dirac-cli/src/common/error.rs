@@ -9,7 +9,7 @@ use dirac::io::{ReadError, WriteError};
 use dirac::repair::RepairError;
 use dirac::spectrum::SpectrumError;
 use dirac::well::WellError;
-use dirac::{ComponentError, MeshError};
+use dirac::{ComponentError, ConnectivityMismatch, MeshError};
 use dirac_cli::plot::PlotError;
 use dirac_cli::render::RenderError;
 use ndarray_npy::WriteNpyError;
@@ -65,6 +65,20 @@ pub enum CliError {
         mesh: String,
         /// What failed.
         source: ComponentError,
+    },
+    /// `--relative-to`: the reference surface is not the same triangulation as the mesh.
+    #[error(
+        "--relative-to {reference}: not the same triangulation as {mesh} ({source}); D_{{f1,f2}} \
+         needs two positions of the same vertices, faces listed identically (for example a \
+         mesh and a deformed copy written by the same program)"
+    )]
+    ReferenceConnectivity {
+        /// The mesh.
+        mesh: String,
+        /// The reference surface.
+        reference: String,
+        /// The first difference.
+        source: ConnectivityMismatch,
     },
     /// The spectrum cannot be computed on this mesh.
     #[error("{mesh}: {source}")]
