@@ -12,6 +12,9 @@
 //!   correspondence by nearest descriptor (Fig. 12);
 //! * [`flat_vs_curved`]: kernel and small eigenvalues of `D_N` on a cube and a sphere (Fig. 5,
 //!   Fig. 9);
+//! * [`man_made`]: man-made versus organic shapes of a labelled folder by the paper's score
+//!   (mean `λ²` of the first 25 eigenvalues of `D_N`), thresholds learnt leave-one-out, and
+//!   nearest neighbours on `log |λ|` (§6.1, Fig. 9);
 //! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
 //!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
 //!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
@@ -22,6 +25,7 @@ pub mod bumps;
 pub mod correspondence;
 pub mod embedding;
 pub mod flat_vs_curved;
+pub mod man_made;
 pub mod metrics;
 pub mod patches;
 pub mod plots;
@@ -72,6 +76,27 @@ pub enum ExperimentError {
     /// A picture could not be rendered.
     #[error(transparent)]
     Render(#[from] dirac_cli::render::RenderError),
+    /// A mesh file could not be read or is not a valid mesh.
+    #[error(transparent)]
+    Read(#[from] dirac::io::ReadError),
+    /// What went wrong with one input file.
+    #[error("{}: {source}", path.display())]
+    InFile {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The failure.
+        source: Box<ExperimentError>,
+    },
+    /// A label file is missing or malformed.
+    #[error("{}: line {line}: {message}", path.display())]
+    Labels {
+        /// The label file.
+        path: std::path::PathBuf,
+        /// Its line (0 when the file could not be opened).
+        line: u64,
+        /// What is wrong.
+        message: String,
+    },
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] std::io::Error),
