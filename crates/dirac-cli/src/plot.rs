@@ -293,7 +293,10 @@ impl Chart<'_> {
         if self.groups.iter().all(|(_, points)| points.is_empty()) {
             return Err(PlotError::Empty);
         }
-        let levels = self.levels.iter().map(|&(label, y)| (label, vec![(0.0, y)]));
+        let levels = self
+            .levels
+            .iter()
+            .map(|&(label, y)| (label, vec![(0.0, y)]));
         let all: Vec<(&str, Vec<(f64, f64)>)> = self.groups.iter().cloned().chain(levels).collect();
         for (label, points) in &all {
             for (index, &(x, y)) in points.iter().enumerate() {

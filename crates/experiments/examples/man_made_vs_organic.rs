@@ -18,7 +18,10 @@ use experiments::man_made::{
 
 fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
     let start = Instant::now();
-    let dir = args.input.as_deref().expect("parse_with_input requires the input");
+    let dir = args
+        .input
+        .as_deref()
+        .expect("parse_with_input requires the input");
     let entries = read_labels(dir)?;
     println!(
         "{} meshes from {}; relative Dirac, unit area, {SPECTRUM_LENGTH} nonzero eigenvalues \
@@ -30,7 +33,12 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
     let shapes = compute_spectra(dir, &entries, args.backend, &mut |s| {
         println!(
             "  {} ({}, {}): {} vertices, dim ker {}, {:.1} s",
-            s.entry.file, s.entry.category, s.entry.label, s.vertices, s.kernel.dimension, s.seconds
+            s.entry.file,
+            s.entry.category,
+            s.entry.label,
+            s.vertices,
+            s.kernel.dimension,
+            s.seconds
         );
     })?;
     let solving = start.elapsed().as_secs_f64();

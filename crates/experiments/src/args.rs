@@ -101,7 +101,11 @@ impl ExampleArgs {
                 "-h" | "--help" => {
                     return Err(ExperimentError::Usage(usage_with_input(name, input)));
                 }
-                positional if input.is_some() && parsed.input.is_none() && !positional.starts_with('-') => {
+                positional
+                    if input.is_some()
+                        && parsed.input.is_none()
+                        && !positional.starts_with('-') =>
+                {
                     parsed.input = Some(PathBuf::from(positional));
                 }
                 other => return Err(fail(format!("unexpected argument {other:?}"))),

@@ -111,7 +111,10 @@ pub fn read_labels(dir: &Path) -> Result<Vec<LabelledFile>, ExperimentError> {
         message,
     };
     let mut reader = csv::Reader::from_path(&path).map_err(|e| error(0, e.to_string()))?;
-    let headers = reader.headers().map_err(|e| error(1, e.to_string()))?.clone();
+    let headers = reader
+        .headers()
+        .map_err(|e| error(1, e.to_string()))?
+        .clone();
     let column = |name: &str| {
         headers.iter().position(|h| h == name).ok_or_else(|| {
             error(
@@ -132,7 +135,9 @@ pub fn read_labels(dir: &Path) -> Result<Vec<LabelledFile>, ExperimentError> {
         rows.push(LabelledFile {
             file: field(file),
             category: field(category),
-            label: field(label).parse().map_err(|message| error(line, message))?,
+            label: field(label)
+                .parse()
+                .map_err(|message| error(line, message))?,
         });
     }
     if rows.is_empty() {
@@ -148,6 +153,8 @@ pub struct ShapeSpectrum {
     pub entry: LabelledFile,
     /// Vertices of the mesh.
     pub vertices: usize,
+    /// Total area of the mesh as stored (before the unit-area scaling).
+    pub area: f64,
     /// The exact kernel of `D_N`: its dimension, flat vertices and constants.
     pub kernel: KernelSummary,
     /// The eigenvalues of smallest `|λ|` outside the kernel, signed, ordered by `|λ|`, at unit
@@ -166,6 +173,13 @@ impl ShapeSpectrum {
     /// The first `k` eigenvalues outside the kernel (fewer if fewer were computed).
     pub fn without_kernel(&self, k: usize) -> &[f64] {
         &self.nonzero[..k.min(self.nonzero.len())]
+    }
+
+    /// A score `mean λ²` at unit area converted to the mesh's stored scale: scaling positions
+    /// by `s` multiplies the eigenvalues of `D_N` by `1/s²`, so `λ_stored = λ_unit / area` and
+    /// the score is divided by `area²`.
+    pub fn at_stored_scale(&self, unit_area_score: f64) -> f64 {
+        unit_area_score / (self.area * self.area)
     }
 
     /// Flat vertices as a share of all vertices.
@@ -209,14 +223,15 @@ pub fn compute_spectra(
             let path: PathBuf = dir.join(&entry.file);
             // A read error names its file already; a failed solve is named by it here.
             let mesh = read_mesh(&path)?;
-            let result =
-                solve(&mesh, &options, index).map_err(|e| ExperimentError::InFile {
-                    path,
-                    source: Box::new(e),
-                })?;
+            let result = solve(&mesh, &options, index).map_err(|e| ExperimentError::InFile {
+                path,
+                source: Box::new(e),
+            })?;
             let shape = ShapeSpectrum {
                 entry: entry.clone(),
                 vertices: mesh.vertex_count(),
+                // Positions were scaled by 1/√area.
+                area: result.scale.powi(-2),
                 kernel: result.kernel,
                 nonzero: result.eigenvalues,
                 seconds: start.elapsed().as_secs_f64(),
@@ -331,7 +346,11 @@ pub fn leave_one_out_threshold(scores: &[f64], positive: &[bool], side: Side) ->
         thresholds.push(threshold);
         predicted.push(side.is_positive(scores[held_out], threshold));
     }
-    let correct = predicted.iter().zip(positive).filter(|(a, b)| a == b).count();
+    let correct = predicted
+        .iter()
+        .zip(positive)
+        .filter(|(a, b)| a == b)
+        .count();
     LeaveOneOut {
         thresholds,
         predicted,
@@ -382,6 +401,9 @@ pub struct ThresholdClassifier {
     pub side: Side,
     /// The accuracy of [`PAPER_THRESHOLD`], for the paper's score.
     pub paper_threshold_accuracy: Option<f64>,
+    /// The accuracy of [`PAPER_THRESHOLD`] on the score at the meshes' stored scale
+    /// ([`ShapeSpectrum::at_stored_scale`]), for the paper's score.
+    pub stored_scale_accuracy: Option<f64>,
     /// The leave-one-out evaluation.
     pub leave_one_out: LeaveOneOut,
     /// The threshold learnt from all shapes.
@@ -401,10 +423,15 @@ impl ThresholdClassifier {
             .iter()
             .map(|s| s.entry.label == Label::ManMade)
             .collect();
+        let stored: Vec<f64> = (shapes.iter().zip(&scores))
+            .map(|(shape, &score)| shape.at_stored_scale(score))
+            .collect();
         Self {
             name: name.to_string(),
             paper_threshold_accuracy: paper_threshold
                 .then(|| threshold_accuracy(&scores, &positive, PAPER_THRESHOLD, side)),
+            stored_scale_accuracy: paper_threshold
+                .then(|| threshold_accuracy(&stored, &positive, PAPER_THRESHOLD, side)),
             leave_one_out: leave_one_out_threshold(&scores, &positive, side),
             all_data_threshold: best_threshold(&scores, &positive, side),
             side,
@@ -467,19 +494,22 @@ impl ManMadeReport {
         }
     }
 
-    /// The per-shape table (Markdown): file, category, label, vertices, kernel dimension and
+    /// The per-shape table (Markdown): file, category, label, vertices, stored area, kernel dimension and
     /// flat share, both scores, whether each threshold classifier got the shape right
     /// leave-one-out (✓/✗), the nearest other shape by `log |λ|` over [`SPECTRUM_LENGTH`]
     /// eigenvalues, seconds.
     pub fn shape_table(&self) -> String {
         let mut out = String::from(
-            "| mesh | category | label | vertices | dim ker | flat share | score, kernel excluded | \
-             score, kernel included | LOO right? excl. / incl. / flat share | 1-NN (60) | seconds |\n\
-             |---|---|---|---|---|---|---|---|---|---|---|\n",
+            "| mesh | category | label | vertices | stored area | dim ker | flat share | \
+             score, kernel excluded | score, kernel included | LOO right? excl. / incl. / flat \
+             share | 1-NN (60) | seconds |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         );
         let is_man_made = |i: usize| self.shapes[i].entry.label == Label::ManMade;
         let mark = |right: bool| if right { "✓" } else { "✗" };
-        let verdict = |c: &ThresholdClassifier, i: usize| mark(c.leave_one_out.predicted[i] == is_man_made(i));
+        let verdict = |c: &ThresholdClassifier, i: usize| {
+            mark(c.leave_one_out.predicted[i] == is_man_made(i))
+        };
         let longest = self.nearest_neighbour.last();
         for (i, s) in self.shapes.iter().enumerate() {
             let nearest = longest.map_or(String::from("—"), |nn| {
@@ -488,11 +518,12 @@ impl ManMadeReport {
                 format!("{} {}", self.shapes[j].entry.category, mark(right))
             });
             out.push_str(&format!(
-                "| {} | {} | {} | {} | {} | {:.2}% | {:.1} | {:.1} | {} / {} / {} | {nearest} | {:.1} |\n",
+                "| {} | {} | {} | {} | {:.3} | {} | {:.2}% | {:.1} | {:.1} | {} / {} / {} | {nearest} | {:.1} |\n",
                 s.entry.file,
                 s.entry.category,
                 s.entry.label,
                 s.vertices,
+                s.area,
                 s.kernel.dimension,
                 100.0 * s.flat_fraction(),
                 self.without_kernel.scores[i],
@@ -508,7 +539,14 @@ impl ManMadeReport {
 
     /// The accuracy table (Markdown), with the paper's figures beside ours.
     pub fn accuracy_table(&self) -> String {
-        let percent = |a: f64| format!("{:.1}% ({}/{})", 100.0 * a, (a * self.shapes.len() as f64).round(), self.shapes.len());
+        let percent = |a: f64| {
+            format!(
+                "{:.1}% ({}/{})",
+                100.0 * a,
+                (a * self.shapes.len() as f64).round(),
+                self.shapes.len()
+            )
+        };
         let mut out = String::from(
             "| classifier | accuracy | learnt threshold (all data; LOO range) |\n|---|---|---|\n",
         );
@@ -520,9 +558,21 @@ impl ManMadeReport {
                     percent(a)
                 ));
             }
+            if let Some(a) = c.stored_scale_accuracy {
+                out.push_str(&format!(
+                    "| {}, paper's threshold {PAPER_THRESHOLD} at the stored scale | {} | — |\n",
+                    c.name,
+                    percent(a)
+                ));
+            }
         }
         for c in [&self.without_kernel, &self.with_kernel, &self.flat_fraction] {
-            let finite = c.leave_one_out.thresholds.iter().copied().filter(|t| t.is_finite());
+            let finite = c
+                .leave_one_out
+                .thresholds
+                .iter()
+                .copied()
+                .filter(|t| t.is_finite());
             let (low, high) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), t| {
                 (l.min(t), h.max(t))
             });
@@ -579,7 +629,12 @@ impl ThresholdClassifier {
     /// the table reports them.
     pub fn levels(&self) -> Vec<Level> {
         let mut distinct: Vec<(f64, usize)> = Vec::new();
-        for &t in self.leave_one_out.thresholds.iter().filter(|t| t.is_finite()) {
+        for &t in self
+            .leave_one_out
+            .thresholds
+            .iter()
+            .filter(|t| t.is_finite())
+        {
             match distinct.iter_mut().find(|(v, _)| *v == t) {
                 Some((_, count)) => *count += 1,
                 None => distinct.push((t, 1)),

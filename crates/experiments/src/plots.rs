@@ -127,7 +127,10 @@ pub fn write_score_plot(
             let zeros = members().filter(|&(_, &i)| scores[i] == 0.0).count();
             let label = match zeros {
                 0 => name.clone(),
-                _ => format!("{name} ({zeros} with score 0, drawn at {})", format_value(floor)),
+                _ => format!(
+                    "{name} ({zeros} with score 0, drawn at {})",
+                    format_value(floor)
+                ),
             };
             let points = members()
                 .map(|(rank, &i)| {

@@ -81,7 +81,11 @@ fn ties_go_to_the_widest_gap_then_to_fewer_positives() {
     // Equal scores cannot be separated: man-made 1, 1 and organic 1, 4 → only the cut after
     // all three ones (3 of 4 right) or the ends (2 of 4).
     assert_eq!(
-        best_threshold(&[1.0, 1.0, 1.0, 4.0], &[true, true, false, false], Side::Below),
+        best_threshold(
+            &[1.0, 1.0, 1.0, 4.0],
+            &[true, true, false, false],
+            Side::Below
+        ),
         2.5
     );
     // One class only: the end that calls everything that class.
@@ -111,8 +115,14 @@ fn positives_above_mirror_positives_below() {
         leave_one_out_threshold(&scores, &positive, Side::Below).accuracy,
         0.0
     );
-    assert_eq!(threshold_accuracy(&scores, &positive, 0.55, Side::Above), 0.75);
-    assert_eq!(threshold_accuracy(&scores, &positive, 0.55, Side::Below), 0.25);
+    assert_eq!(
+        threshold_accuracy(&scores, &positive, 0.55, Side::Above),
+        0.75
+    );
+    assert_eq!(
+        threshold_accuracy(&scores, &positive, 0.55, Side::Below),
+        0.25
+    );
 }
 
 #[test]
@@ -127,12 +137,19 @@ fn the_list_with_kernel_zeros_matches_a_direct_solve() {
     // constants; docs/EXPERIMENTS.md §4). k below, at and above it.
     for (n, kernel, k) in [(4, 7, 12), (5, 25, 30), (5, 25, 25), (6, 55, 25)] {
         let cube = subdivided_cube(n).unwrap();
-        let mut options =
-            experiment_options(RELATIVE_DIRAC, k, SolverBackend::Native, Normalization::UnitArea);
+        let mut options = experiment_options(
+            RELATIVE_DIRAC,
+            k,
+            SolverBackend::Native,
+            Normalization::UnitArea,
+        );
         options.include_kernel = false;
         let without = spectrum(&cube, &options).unwrap();
         assert_eq!(without.kernel.dimension, kernel, "cube {n}");
-        assert!(without.eigenvalues.iter().all(|l| l.abs() > 1.0), "cube {n}");
+        assert!(
+            without.eigenvalues.iter().all(|l| l.abs() > 1.0),
+            "cube {n}"
+        );
         options.include_kernel = true;
         let direct = spectrum(&cube, &options).unwrap().eigenvalues;
         let derived = with_kernel_zeros(&without.eigenvalues, without.kernel.dimension, k);
@@ -161,7 +178,11 @@ fn labels_are_read_and_bad_rows_named() {
     let rows = read_labels(&dir).unwrap();
     assert_eq!(rows.len(), 2);
     assert_eq!(
-        (rows[1].file.as_str(), rows[1].category.as_str(), rows[1].label),
+        (
+            rows[1].file.as_str(),
+            rows[1].category.as_str(),
+            rows[1].label
+        ),
         ("b.off", "Ant", Label::Organic)
     );
 
@@ -171,7 +192,10 @@ fn labels_are_read_and_bad_rows_named() {
     )
     .unwrap();
     let error = read_labels(&dir).unwrap_err();
-    assert!(matches!(error, ExperimentError::Labels { line: 3, .. }), "{error}");
+    assert!(
+        matches!(error, ExperimentError::Labels { line: 3, .. }),
+        "{error}"
+    );
     assert!(error.to_string().contains("\"natural\""), "{error}");
 
     fs::write(dir.join("labels.csv"), "file,label\na.off,organic\n").unwrap();
@@ -203,9 +227,36 @@ fn a_cube_and_spheres_are_told_apart() {
     let shapes =
         compute_spectra(&dir, &entries, SolverBackend::Native, &mut |_| seen += 1).unwrap();
     assert_eq!(seen, 4);
-    for (shape, (_, _, _, kernel)) in shapes.iter().zip(&meshes) {
+    for (shape, (_, mesh, _, kernel)) in shapes.iter().zip(&meshes) {
         assert_eq!(shape.kernel.dimension, *kernel, "{}", shape.entry.file);
+        let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
+        assert!(
+            (shape.area - area).abs() < 1e-12 * area,
+            "{}",
+            shape.entry.file
+        );
     }
+    // The cube n = 5 as stored has side 2 (area 24): its eigenvalues are 24 times smaller
+    // than at unit area, its score 24² times.
+    assert!(
+        (shapes[0].area - 24.0).abs() < 1e-9,
+        "cube area {}",
+        shapes[0].area
+    );
+    assert!((shapes[0].at_stored_scale(576.0) - 1.0).abs() < 1e-12);
+    let mut stored = experiment_options(
+        RELATIVE_DIRAC,
+        25,
+        SolverBackend::Native,
+        Normalization::None,
+    );
+    stored.include_kernel = false;
+    let direct = mean_square(&spectrum(&meshes[0].1, &stored).unwrap().eigenvalues);
+    let converted = shapes[0].at_stored_scale(mean_square(shapes[0].without_kernel(25)));
+    assert!(
+        (converted - direct).abs() < 1e-7 * direct,
+        "{converted} vs {direct}"
+    );
     let report = ManMadeReport::new(shapes);
     // With the kernel's zeros the cubes' scores vanish (kernel ≥ 25); the spheres' smallest
     // |λ| is about 4π at unit area, so their score exceeds (4π)² · 24/25.
@@ -216,5 +267,8 @@ fn a_cube_and_spheres_are_told_apart() {
     assert_eq!(report.with_kernel.leave_one_out.accuracy, 1.0);
     assert_eq!(report.flat_fraction.leave_one_out.accuracy, 1.0);
     let table = report.accuracy_table();
-    assert!(table.contains("kernel included, paper's threshold 1 | 100.0% (4/4)"), "{table}");
+    assert!(
+        table.contains("kernel included, paper's threshold 1 | 100.0% (4/4)"),
+        "{table}"
+    );
 }
