@@ -170,21 +170,13 @@ pub fn plot_spectra(series: &[Series], title: &str, path: &Path) -> Result<(), P
 
 /// Plots each group's points as dots of one colour into `path` (`.png` or `.svg`).
 pub fn plot_points(groups: &[PointGroup], title: &str, path: &Path) -> Result<(), PlotError> {
-    let chart = Chart {
-        title,
-        x_description: "first coordinate",
-        y_description: "second coordinate",
-        groups: groups
-            .iter()
-            .map(|g| (g.label.as_str(), g.points.clone()))
-            .collect(),
-        lines: false,
-        x_ticks: DEFAULT_TICKS,
-        levels: Vec::new(),
+    let axes = Axes {
+        x: "first coordinate",
+        y: "second coordinate",
         log_y: false,
         legend: Corner::UpperLeft,
     };
-    chart.save(path)
+    plot_points_with_levels(groups, &[], axes, title, path)
 }
 
 /// Plots each group's points as dots of one colour and each level as a horizontal line across

@@ -18,7 +18,8 @@
 //! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
 //!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
 //!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
-//!   error; [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
+//!   error; [`threshold`]: one-number classifiers with a threshold learnt leave-one-out;
+//!   [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
 
 pub mod args;
 pub mod bumps;
@@ -31,6 +32,7 @@ pub mod patches;
 pub mod plots;
 pub mod report;
 pub mod spectra;
+pub mod threshold;
 pub mod tori;
 
 use thiserror::Error;
@@ -92,7 +94,7 @@ pub enum ExperimentError {
     Labels {
         /// The label file.
         path: std::path::PathBuf,
-        /// Its line (0 when the file could not be opened).
+        /// Its line.
         line: u64,
         /// What is wrong.
         message: String,

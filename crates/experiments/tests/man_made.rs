@@ -11,10 +11,10 @@ use dirac::io::write_obj;
 use dirac::spectrum::{Normalization, SolverBackend, spectrum};
 use experiments::ExperimentError;
 use experiments::man_made::{
-    Label, ManMadeReport, Side, best_threshold, compute_spectra, leave_one_out_threshold,
-    mean_square, read_labels, threshold_accuracy, with_kernel_zeros,
+    Label, ManMadeReport, compute_spectra, mean_square, read_labels, with_kernel_zeros,
 };
 use experiments::spectra::{RELATIVE_DIRAC, experiment_options};
+use experiments::threshold::{Side, best_threshold, leave_one_out_threshold, threshold_accuracy};
 
 /// A fresh directory for one test.
 fn scratch(name: &str) -> PathBuf {
