@@ -357,6 +357,19 @@ impl Chart<'_> {
             .y_label_formatter(&y_label)
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
+        // Levels first, so that the dots stay visible on top of them.
+        for (j, &(label, y)) in levels.iter().enumerate() {
+            let colour = PALETTE[(groups.len() + j) % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    [(x_low, y), (x_high, y)],
+                    colour.stroke_width(2),
+                ))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
         for (i, (label, points)) in groups.iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
             // Lines first, so the dots stay visible on top of them.
@@ -377,18 +390,6 @@ impl Chart<'_> {
                 dots.label(*label)
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
             }
-        }
-        for (j, &(label, y)) in levels.iter().enumerate() {
-            let colour = PALETTE[(groups.len() + j) % PALETTE.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    [(x_low, y), (x_high, y)],
-                    colour.stroke_width(2),
-                ))?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
         }
         chart
             .configure_series_labels()
