@@ -28,6 +28,7 @@
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
+//! | [`segmentation`] | per-face segmentations: the benchmark's `.seg` files and its error measures |
 //!
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
@@ -42,6 +43,7 @@ mod mesh;
 pub mod operators;
 pub mod phase;
 pub mod repair;
+pub mod segmentation;
 pub mod spectrum;
 mod topology;
 pub mod well;

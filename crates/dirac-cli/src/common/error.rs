@@ -7,6 +7,8 @@ use std::path::PathBuf;
 use dirac::descriptors::DescriptorError;
 use dirac::io::{ReadError, WriteError};
 use dirac::repair::RepairError;
+use dirac::segmentation::evaluation::EvaluationError;
+use dirac::segmentation::seg_file::SegFileError;
 use dirac::spectrum::SpectrumError;
 use dirac::well::WellError;
 use dirac::{ComponentError, ConnectivityMismatch, MeshError};
@@ -127,6 +129,23 @@ pub enum CliError {
         wanted: usize,
         /// What was done with the converged pairs (`printing those`, `nothing drawn`).
         doing: String,
+    },
+    /// A `.seg` file cannot be read, is malformed or does not fit the mesh (the message names
+    /// the mesh, the `.seg` file and, for a mismatch, both numbers).
+    #[error("{mesh}: {source}")]
+    SegFile {
+        /// The mesh file.
+        mesh: String,
+        /// What is wrong with the `.seg` file.
+        source: SegFileError,
+    },
+    /// Segmentations of the mesh cannot be compared.
+    #[error("{mesh}: {source}")]
+    Evaluation {
+        /// The mesh file.
+        mesh: String,
+        /// Why.
+        source: EvaluationError,
     },
     /// A file or directory cannot be read or written.
     #[error("{}: {source}", path.display())]
