@@ -12,8 +12,9 @@ use std::time::Instant;
 use experiments::ExperimentError;
 use experiments::args::{ExampleArgs, run_example};
 use experiments::patches_study::{
-    Protocol, StudyRow, feature_variants, format_study, setting_spectra, settings,
+    Protocol, StudyRow, feature_variants, format_study, setting_spectra, settings, simplex_ceiling,
 };
+use experiments::spectral_features::SpectralFeatures;
 
 /// The paper's 500 k-means starts, seeded as in `textured_patches`.
 const PROTOCOL: Protocol = Protocol {
@@ -45,6 +46,16 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
             scoring.elapsed().as_secs_f64()
         );
         println!("{}", format_study(&rows));
+        let [dirac_ceiling, laplace_ceiling] =
+            spectra.ceilings(SpectralFeatures::PAPER, PROTOCOL)?;
+        println!(
+            "k-means ceiling (every patch at its class centroid, {}): relative Dirac {:.1}, \
+             Laplace {:.1}; equidistant classes {:.1}",
+            SpectralFeatures::PAPER.describe(),
+            100.0 * dirac_ceiling,
+            100.0 * laplace_ceiling,
+            100.0 * simplex_ceiling(&spectra.labels, PROTOCOL)
+        );
         for row in &rows {
             if best
                 .as_ref()

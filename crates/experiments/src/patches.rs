@@ -115,6 +115,33 @@ fn wave_sum(waves: &[([f64; 3], f64)], frequency: f64, p: [f64; 3]) -> f64 {
 }
 
 impl Texture {
+    /// The same texture with its spatial frequency multiplied by `scale` (wavelength divided).
+    pub fn with_frequency_scale(self, scale: f64) -> Self {
+        match self {
+            Texture::Waves {
+                frequency,
+                directions,
+                seed,
+            } => Texture::Waves {
+                frequency: frequency * scale,
+                directions,
+                seed,
+            },
+            Texture::Ridges { frequency } => Texture::Ridges {
+                frequency: frequency * scale,
+            },
+            Texture::Noise {
+                frequency,
+                profile,
+                seed,
+            } => Texture::Noise {
+                frequency: frequency * scale,
+                profile,
+                seed,
+            },
+        }
+    }
+
     /// `f` as a function of the unit vector `p`.
     pub fn function(&self) -> Box<dyn Fn([f64; 3]) -> f64> {
         match *self {

@@ -13,6 +13,7 @@ use dirac::spectrum::{Normalization, SolverBackend};
 use crate::ExperimentError;
 use crate::metrics::mean_kmeans_purity;
 use crate::patches::{PatchConfig, TextureSet, patches, well};
+use crate::plots::class_means;
 use crate::spectra::{LAPLACE, OperatorSpectra, RELATIVE_DIRAC, compute_spectra};
 use crate::spectral_features::{EigenvalueTransform, FeatureScaling, SpectralFeatures};
 
@@ -32,6 +33,8 @@ pub struct StudySetting {
     pub value: String,
     /// The texture classes.
     pub textures: TextureSet,
+    /// Factor on every class's texture frequency (1 for the set as defined).
+    pub frequency_scale: f64,
     /// Sizes, radii and the number of eigenvalues.
     pub config: PatchConfig,
 }
@@ -44,6 +47,7 @@ impl StudySetting {
             factor: "default",
             value: "original textures, well radius 0.85, level 4".into(),
             textures: TextureSet::Original,
+            frequency_scale: 1.0,
             config: PatchConfig {
                 k: STUDY_EIGENVALUES,
                 ..PatchConfig::DEFAULT
@@ -92,10 +96,27 @@ impl StudySetting {
     }
 }
 
+impl StudySetting {
+    /// The ten classes: the texture set with the frequency scale applied.
+    pub fn classes(&self) -> Vec<crate::patches::PatchClass> {
+        self.textures
+            .classes()
+            .into_iter()
+            .map(|class| crate::patches::PatchClass {
+                texture: class.texture.with_frequency_scale(self.frequency_scale),
+                ..class
+            })
+            .collect()
+    }
+}
+
 /// The settings, one factor at a time from [`StudySetting::default_setting`]: the three other
 /// [`TextureSet`]s, well radii 0.55, 1.15 and 1.45 (with the default's 0.85 the region of
 /// interest, of effective radius about `β − 0.2`, holds 2–4 wavelengths of the original
-/// textures; 1.45 about twice as many), and, if `with_level_5`, the level-5 icosphere.
+/// textures; 1.45 about twice as many); then the two largest single effects together
+/// (homogeneous noise in a well of radius 1.45); and, if `with_level_5`, the level-5
+/// icosphere, alone and with the original textures at twice their frequency (the region then
+/// holds 4–8 wavelengths; level 4 would resolve a wavelength by two to four edges only).
 pub fn settings(with_level_5: bool) -> Vec<StudySetting> {
     let mut settings = vec![
         StudySetting::default_setting(),
@@ -105,9 +126,21 @@ pub fn settings(with_level_5: bool) -> Vec<StudySetting> {
         StudySetting::with_well_radius(0.55),
         StudySetting::with_well_radius(1.15),
         StudySetting::with_well_radius(1.45),
+        StudySetting {
+            factor: "texture + well radius",
+            value: "homogeneous noise, 1.45".into(),
+            textures: TextureSet::Homogeneous,
+            ..StudySetting::with_well_radius(1.45)
+        },
     ];
     if with_level_5 {
         settings.push(StudySetting::with_level(5));
+        settings.push(StudySetting {
+            factor: "frequency (level 5)",
+            value: "original textures × 2 frequency, level 5".into(),
+            frequency_scale: 2.0,
+            ..StudySetting::with_level(5)
+        });
     }
     settings
 }
@@ -166,7 +199,7 @@ pub fn setting_spectra(
 ) -> Result<SettingSpectra, ExperimentError> {
     let start = Instant::now();
     let config = setting.config;
-    let patches = patches(&config, &setting.textures.classes())?;
+    let patches = patches(&config, &setting.classes())?;
     let meshes: Vec<_> = patches.iter().map(|p| p.mesh.clone()).collect();
     let sizes = meshes.iter().map(|m| m.vertex_count());
     let vertices = (sizes.clone().min().unwrap_or(0), sizes.max().unwrap_or(0));
@@ -229,6 +262,50 @@ impl SettingSpectra {
             relative_dirac: purity(&self.tables[0])?,
             laplace: purity(&self.tables[1])?,
         })
+    }
+}
+
+/// The purity the k-means protocol reaches on ideal data: every point replaced by its class's
+/// centroid (`points` the feature vectors, `labels` their classes), so classes are single
+/// points at their actual mutual distances and only the k-means initialisation can lose
+/// purity. Lloyd's iteration from `k` random points leaves two classes merged whenever two
+/// initial centres fall in one class, so this is below 1 even for perfectly separated classes.
+pub fn kmeans_ceiling(points: &[Vec<f64>], labels: &[usize], protocol: Protocol) -> f64 {
+    let classes = labels.iter().max().map_or(0, |m| m + 1);
+    let names: Vec<String> = (0..classes).map(|c| c.to_string()).collect();
+    let centroids = class_means(points, labels, &names);
+    let ideal: Vec<Vec<f64>> = labels
+        .iter()
+        .map(|&l| centroids[l].values.clone())
+        .collect();
+    mean_kmeans_purity(&ideal, labels, classes, protocol.starts, protocol.seed)
+}
+
+/// [`kmeans_ceiling`] when all classes are equidistant: class `c` at the unit vector `e_c`.
+pub fn simplex_ceiling(labels: &[usize], protocol: Protocol) -> f64 {
+    let classes = labels.iter().max().map_or(0, |m| m + 1);
+    let points: Vec<Vec<f64>> = labels
+        .iter()
+        .map(|&l| (0..classes).map(|c| f64::from(u8::from(c == l))).collect())
+        .collect();
+    kmeans_ceiling(&points, labels, protocol)
+}
+
+impl SettingSpectra {
+    /// [`kmeans_ceiling`] of relative Dirac and of Laplace under `features`.
+    pub fn ceilings(
+        &self,
+        features: SpectralFeatures,
+        protocol: Protocol,
+    ) -> Result<[f64; 2], ExperimentError> {
+        let ceiling = |table: &OperatorSpectra| -> Result<f64, ExperimentError> {
+            Ok(kmeans_ceiling(
+                &features.vectors(&table.spectra)?,
+                &self.labels,
+                protocol,
+            ))
+        };
+        Ok([ceiling(&self.tables[0])?, ceiling(&self.tables[1])?])
     }
 }
 

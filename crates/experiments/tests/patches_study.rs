@@ -301,7 +301,22 @@ fn the_study_changes_one_factor_at_a_time() {
         },
         PatchConfig::DEFAULT
     );
+    let level_5 = StudySetting::with_level(5);
     for setting in settings(true).into_iter().skip(1) {
+        // The combined setting joins two single changes; the doubled frequency is a change
+        // from the level-5 setting.
+        if setting.factor == "texture + well radius" {
+            assert_eq!(setting.textures, TextureSet::Homogeneous);
+            assert_eq!(setting.config, StudySetting::with_well_radius(1.45).config);
+            continue;
+        }
+        if setting.frequency_scale != 1.0 {
+            assert_eq!(
+                (setting.textures, setting.config),
+                (level_5.textures, level_5.config)
+            );
+            continue;
+        }
         let changed_textures = setting.textures != default.textures;
         let changed_well = setting.config.well_radius != default.config.well_radius;
         let changed_level = setting.config.level != default.config.level;
@@ -329,4 +344,80 @@ fn the_study_changes_one_factor_at_a_time() {
             "{factor}: {variant:?}"
         );
     }
+}
+
+#[test]
+fn frequency_scale_multiplies_every_texture_frequency() {
+    assert_eq!(
+        Texture::Ridges { frequency: 14.0 }.with_frequency_scale(2.0),
+        Texture::Ridges { frequency: 28.0 }
+    );
+    let noise = Texture::Noise {
+        frequency: 10.0,
+        profile: NoiseProfile::Ridged,
+        seed: 4,
+    };
+    // Same directions and phases, doubled frequency: equal to the noise defined at 20.
+    assert_eq!(noise.with_frequency_scale(1.0), noise);
+    let doubled = noise.with_frequency_scale(2.0).function();
+    let reference = Texture::Noise {
+        frequency: 20.0,
+        profile: NoiseProfile::Ridged,
+        seed: 4,
+    }
+    .function();
+    for p in cap_points([0.0, 1.0, 0.0], 1.0, 50, 8) {
+        assert_eq!(doubled(p), reference(p));
+    }
+    let scaled_set: Vec<Texture> = StudySetting {
+        frequency_scale: 2.0,
+        ..StudySetting::default_setting()
+    }
+    .classes()
+    .iter()
+    .map(|c| c.texture)
+    .collect();
+    let original: Vec<Texture> = TextureSet::Original
+        .classes()
+        .iter()
+        .map(|c| c.texture.with_frequency_scale(2.0))
+        .collect();
+    assert_eq!(scaled_set, original);
+    assert!(matches!(
+        scaled_set[0],
+        Texture::Waves { frequency, .. } if frequency == 20.0
+    ));
+}
+
+#[test]
+fn kmeans_ceiling_of_point_classes_is_their_own_purity_and_below_one() {
+    use experiments::metrics::mean_kmeans_purity;
+    use experiments::patches_study::{Protocol, kmeans_ceiling, simplex_ceiling};
+    let protocol = Protocol {
+        starts: 200,
+        seed: 10,
+    };
+    let labels: Vec<usize> = (0..100).map(|i| i / 10).collect();
+    // Classes already single points (the unit vectors): their centroids are themselves.
+    let points: Vec<Vec<f64>> = labels
+        .iter()
+        .map(|&l| (0..10).map(|c| if c == l { 1.0 } else { 0.0 }).collect())
+        .collect();
+    let ceiling = simplex_ceiling(&labels, protocol);
+    assert_eq!(ceiling, mean_kmeans_purity(&points, &labels, 10, 200, 10));
+    // Spread around those points, the centroids are the points again (spread ±0.1, mean 0 by
+    // symmetry of the offsets).
+    let spread: Vec<Vec<f64>> = points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let offset = if i % 2 == 0 { 0.1 } else { -0.1 };
+            p.iter().map(|x| x + offset).collect()
+        })
+        .collect();
+    assert!((kmeans_ceiling(&spread, &labels, protocol) - ceiling).abs() < 1e-12);
+    // Ten random initial points fall in ten distinct classes with probability
+    // 10¹⁰ / C(100, 10) ≈ 6·10⁻⁴; otherwise Lloyd's iteration keeps two classes in one
+    // cluster: the protocol stays well below 1 on perfectly separated classes.
+    assert!(ceiling > 0.5 && ceiling < 0.9, "ceiling {ceiling}");
 }
