@@ -57,7 +57,7 @@ pub fn tsne(
         return Err(ExperimentError::NotSquare);
     }
     let needed = (3.0 * options.perplexity).max(0.0).ceil() as usize + 1;
-    if !(options.perplexity > 0.0) || n < needed {
+    if options.perplexity.is_nan() || options.perplexity <= 0.0 || n < needed {
         return Err(ExperimentError::Perplexity {
             perplexity: options.perplexity,
             needed,

@@ -223,7 +223,15 @@ pub fn patch_classes() -> Vec<PatchClass> {
             },
         ),
     ];
-    AMPLITUDES
+    every_texture_at_every_amplitude(&textures, &AMPLITUDES)
+}
+
+/// One class per amplitude and texture, amplitude-major, named `"<texture> <amplitude>"`.
+fn every_texture_at_every_amplitude(
+    textures: &[(&str, Texture)],
+    amplitudes: &[f64],
+) -> Vec<PatchClass> {
+    amplitudes
         .iter()
         .flat_map(|&amplitude| {
             textures.iter().map(move |&(name, texture)| PatchClass {
@@ -292,16 +300,7 @@ pub fn homogeneous_classes() -> Vec<PatchClass> {
         ("fine ridged", noise(18.0, NoiseProfile::Ridged, 14)),
         ("pitted", noise(14.0, NoiseProfile::Pitted, 15)),
     ];
-    HOMOGENEOUS_AMPLITUDES
-        .iter()
-        .flat_map(|&amplitude| {
-            textures.iter().map(move |&(name, texture)| PatchClass {
-                name: format!("{name} {amplitude}"),
-                texture,
-                amplitude,
-            })
-        })
-        .collect()
+    every_texture_at_every_amplitude(&textures, &HOMOGENEOUS_AMPLITUDES)
 }
 
 /// Ten classes that differ only in amplitude: smooth noise of frequency 14 (one seed) at RMS

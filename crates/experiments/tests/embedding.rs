@@ -89,6 +89,18 @@ fn tsne_rejects_a_perplexity_too_large_for_the_points() {
         )
         .is_ok()
     );
+    for perplexity in [0.0, f64::NAN] {
+        assert!(matches!(
+            tsne(
+                &d,
+                &TsneOptions {
+                    perplexity,
+                    ..options()
+                }
+            ),
+            Err(ExperimentError::Perplexity { .. })
+        ));
+    }
     assert_eq!(TsneOptions::for_points(10).perplexity, 3.0);
     assert_eq!(TsneOptions::for_points(100).perplexity, 10.0);
     assert!(matches!(
