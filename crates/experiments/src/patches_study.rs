@@ -310,7 +310,7 @@ impl SettingSpectra {
 }
 
 /// A Markdown table of study rows: factor, setting, distance, purity of relative Dirac and of
-/// Laplace (%).
+/// Laplace (%). The `|` of `|λ|` is escaped so that it does not split the cell.
 pub fn format_study(rows: &[StudyRow]) -> String {
     let mut out = String::from(
         "| factor | setting | distance | relative Dirac | Laplace |\n|---|---|---|---|---|\n",
@@ -320,7 +320,7 @@ pub fn format_study(rows: &[StudyRow]) -> String {
             "| {} | {} | {} | {:.1} | {:.1} |\n",
             row.factor,
             row.setting,
-            row.features.describe(),
+            row.features.describe().replace('|', "\\|"),
             100.0 * row.relative_dirac,
             100.0 * row.laplace
         ));

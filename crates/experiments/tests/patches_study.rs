@@ -421,3 +421,26 @@ fn kmeans_ceiling_of_point_classes_is_their_own_purity_and_below_one() {
     // cluster: the protocol stays well below 1 on perfectly separated classes.
     assert!(ceiling > 0.5 && ceiling < 0.9, "ceiling {ceiling}");
 }
+
+#[test]
+fn study_table_escapes_the_bars_of_the_magnitude() {
+    use experiments::patches_study::{StudyRow, format_study};
+    let table = format_study(&[StudyRow {
+        factor: "transform",
+        setting: "default".into(),
+        features: features(20, EigenvalueTransform::LogMagnitude, FeatureScaling::None),
+        relative_dirac: 0.477,
+        laplace: 0.353,
+    }]);
+    let row = table.lines().nth(2).unwrap();
+    assert_eq!(
+        row,
+        "| transform | default | 20 × log\\|λ\\|, none | 47.7 | 35.3 |"
+    );
+    // Six unescaped bars: five cells.
+    let unescaped = row
+        .match_indices('|')
+        .filter(|&(i, _)| !row[..i].ends_with('\\'))
+        .count();
+    assert_eq!(unescaped, 6);
+}
