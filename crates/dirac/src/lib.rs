@@ -23,7 +23,7 @@
 //! |---|---|
 //! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
 //! | [`repair`](mod@repair) | meshes as downloaded made valid: merged vertices, degenerate faces dropped, non-manifold elements split, faces oriented, with a report |
-//! | [`geometry`], [`curvature`], [`operators`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature |
+//! | [`geometry`], [`curvature`], [`operators`], [`anisotropic`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature, the anisotropic Laplacian |
 //! | [`spectrum`](mod@spectrum) | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
@@ -32,6 +32,7 @@
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
 
+pub mod anisotropic;
 pub mod curvature;
 pub mod descriptors;
 mod disjoint_sets;
@@ -49,8 +50,8 @@ pub mod well;
 pub use io::default_mesh;
 pub use mesh::{Edge, MeshError, TriMesh};
 pub use spectrum::{
-    Eigenproblem, Normalization, Operator, OperatorNameError, ParseOperatorError, SolverBackend,
-    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+    Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
+    SolverBackend, Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,
