@@ -3,7 +3,8 @@
 //! Triangle meshes and the operators of "A Dirac Operator for Extrinsic Shape Analysis"
 //! (Liu, Jacobson, Crane, SGP 2017), and their spectra: the relative Dirac operator `D_N`, the
 //! extrinsic Dirac operator `D_f`, the cotangent Laplacian, the family `L(τ)` between them, the
-//! squared operator, the modified Dirichlet energy and the infinite potential well, solved over
+//! squared operator, the modified Dirichlet energy, the anisotropic Laplacian of Andreux et al.
+//! and the infinite potential well, solved over
 //! the quaternions by `qeig`; canonical eigenvectors and the descriptors built on them.
 //!
 //! One call gives a spectrum:

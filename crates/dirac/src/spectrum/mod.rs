@@ -131,6 +131,15 @@ impl Parameter {
         }
     }
 
+    /// Its name as a keyword: `tau`, `anisotropy` (the JSON reports' keys, the Python
+    /// package's keyword arguments).
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Parameter::Weight => "tau",
+            Parameter::Anisotropy => "anisotropy",
+        }
+    }
+
     /// Its symbol: `τ`, `α`.
     pub fn symbol(self) -> &'static str {
         match self {
@@ -585,7 +594,10 @@ pub enum SpectrumError {
     },
     /// The operator's parameter (`τ` of the family, `α` of the anisotropic Laplacian) is
     /// outside its range or not finite.
-    #[error("{operator}: {} = {value} is outside {}", parameter.description(), parameter.range())]
+    #[error(
+        "{operator}: {} = {value} is outside {} ({})",
+        parameter.keyword(), parameter.range(), parameter.description()
+    )]
     InvalidParameter {
         /// The operator's name.
         operator: &'static str,
