@@ -9,6 +9,7 @@ use crate::commands::eigenfunctions::{self, EigenfunctionsArgs};
 use crate::commands::plot::{self, PlotArgs, PlotCommand};
 use crate::commands::render::{self, RenderArgs};
 use crate::commands::repair::{self, RepairArgs};
+use crate::commands::segment_eval::{self, SegmentEvalArgs};
 use crate::commands::spectrum::{self, SpectrumArgs};
 use crate::common::error::CliError;
 use crate::common::solve_args::SolveArgs;
@@ -60,6 +61,10 @@ pub enum Command {
     /// edges and vertices, orient faces) and write it, reporting every change.
     #[command(after_help = repair::AFTER_HELP)]
     Repair(RepairArgs),
+    /// Score a segmentation (.seg) against reference segmentations of the same mesh with the
+    /// Princeton benchmark's measures: Cut Discrepancy, Hamming, Rand index, GCE, LCE.
+    #[command(after_help = segment_eval::AFTER_HELP)]
+    SegmentEval(SegmentEvalArgs),
 }
 
 impl Command {
@@ -72,6 +77,7 @@ impl Command {
             Command::Batch(_) => &["batch"],
             Command::Render(_) => &["render"],
             Command::Repair(_) => &["repair"],
+            Command::SegmentEval(_) => &["segment-eval"],
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(_),
             }) => &["plot", "spectra"],
@@ -89,7 +95,7 @@ impl Command {
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(args),
             }) => Some(&args.solve),
-            Command::Repair(_) => None,
+            Command::Repair(_) | Command::SegmentEval(_) => None,
         }
     }
 }
@@ -113,6 +119,7 @@ pub fn dispatch(command: &Command) -> Result<(), CliError> {
         Command::Render(args) => render::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Repair(args) => repair::run(args),
+        Command::SegmentEval(args) => segment_eval::run(args),
     });
     outcome.map_err(|error| match error {
         CliError::Usage(usage) => CliError::Usage(with_usage_line(usage, command.path())),

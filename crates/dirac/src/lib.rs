@@ -29,6 +29,7 @@
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
+//! | [`segmentation`] | per-face segmentations: the benchmark's `.seg` files and its error measures |
 //!
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
@@ -44,15 +45,17 @@ mod mesh;
 pub mod operators;
 pub mod phase;
 pub mod repair;
+pub mod segmentation;
 pub mod spectrum;
 mod topology;
 pub mod well;
 
 pub use io::default_mesh;
-pub use mesh::{Edge, MeshError, TriMesh};
+pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
-    SolverBackend, Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+    SolverBackend, Spectrum, SpectrumError, SpectrumOptions, eigenproblem, relative_spectrum,
+    spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,
