@@ -10,7 +10,7 @@
 //!   measure of [`evaluation`](super::evaluation) depends only on the partition the labels
 //!   induce, so gaps or large numbers change nothing there and are kept as written; call
 //!   [`relabel_by_first_appearance`] for the `0…S−1` convention. (The 95 human segmentations
-//!   of the 19 models in `shared/meshes/psb/seg` all use exactly `0…S−1`.)
+//!   of 19 benchmark models, one per category, all use exactly `0…S−1`.)
 //!
 //! [`write_seg`] writes labels as given, one per line; this crate writes segmentations
 //! relabelled by [`relabel_by_first_appearance`] first.
