@@ -28,10 +28,13 @@
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
+//! | [`clustering`] | k-means (Lloyd; uniform or k-means++ start) of flat row-major points |
+//! | [`segmentation`] | consensus segmentation of a mesh from per-vertex descriptors |
 //!
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
 
+pub mod clustering;
 pub mod curvature;
 pub mod descriptors;
 mod disjoint_sets;
@@ -42,6 +45,7 @@ mod mesh;
 pub mod operators;
 pub mod phase;
 pub mod repair;
+pub mod segmentation;
 pub mod spectrum;
 mod topology;
 pub mod well;
