@@ -29,7 +29,7 @@
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
 //! | [`clustering`] | k-means (Lloyd; uniform or k-means++ start) of flat row-major points |
-//! | [`segmentation`] | consensus segmentation of a mesh from per-vertex descriptors |
+//! | [`segmentation`] | per-face segmentations: consensus segmentation, the benchmark's `.seg` files and its error measures |
 //!
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
