@@ -8,4 +8,5 @@ pub mod eigenfunctions;
 pub mod plot;
 pub mod render;
 pub mod repair;
+pub mod segment;
 pub mod spectrum;

@@ -42,6 +42,8 @@ use crate::TriMesh;
 use crate::clustering::{ClusteringError, Initialisation, KMeansOptions, Points, kmeans};
 use crate::descriptors::DescriptorTable;
 use crate::disjoint_sets::DisjointSets;
+use crate::geometry::face_areas;
+use crate::segmentation::seg_file::relabel_by_first_appearance;
 
 /// Parameters of [`consensus_segmentation`]; the defaults are those of `dirac segment` and of
 /// the segmentation experiment (docs/MATH.md, "Consensus segmentation").
@@ -49,9 +51,9 @@ use crate::disjoint_sets::DisjointSets;
 pub struct ConsensusOptions {
     /// Number of k-means trials `T` (default 40); the thresholds are the multiples of `1/T`.
     pub trials: usize,
-    /// Fewest clusters of a trial (default 4), at least 2.
+    /// Fewest clusters of a trial (default 2), at least 2.
     pub min_clusters: usize,
-    /// Most clusters of a trial (default 12), at least `min_clusters`.
+    /// Most clusters of a trial (default 6), at least `min_clusters`.
     pub max_clusters: usize,
     /// The start of every trial's k-means (default k-means++).
     pub initialisation: Initialisation,
@@ -70,8 +72,8 @@ impl Default for ConsensusOptions {
     fn default() -> Self {
         Self {
             trials: 40,
-            min_clusters: 4,
-            max_clusters: 12,
+            min_clusters: 2,
+            max_clusters: 6,
             initialisation: Initialisation::PlusPlus,
             max_iterations: 100,
             min_area_fraction: 0.01,
@@ -307,7 +309,7 @@ pub fn consensus_segmentation(
     // Decreasing agreement, ties by edge index (the sort is stable).
     adjacency.sort_by(|a, b| b.agreement.cmp(&a.agreement));
 
-    let areas: Vec<f64> = (0..faces).map(|t| mesh.face_area(t)).collect();
+    let areas = face_areas(mesh);
     let smallest = options.min_area_fraction * areas.iter().sum::<f64>();
     let merging = Merging {
         adjacency: &adjacency,
@@ -405,7 +407,11 @@ fn check_requested(
             components,
         });
     }
-    let most = levels.iter().map(|l| l.segments).max().unwrap_or(components);
+    let most = levels
+        .iter()
+        .map(|l| l.segments)
+        .max()
+        .unwrap_or(components);
     if requested > most {
         return Err(SegmentationError::AboveConsensus { requested, most });
     }
@@ -509,18 +515,11 @@ impl Partition {
 
     /// Labels `0…S−1` by smallest face, and the area of each segment.
     fn labels(mut self, areas: &[f64]) -> (Vec<usize>, Vec<f64>) {
-        let faces = areas.len();
-        let mut label_of_root = vec![usize::MAX; faces];
-        let mut labels = vec![0; faces];
-        let mut segment_areas = Vec::new();
-        for t in 0..faces {
-            let root = self.sets.find(t);
-            if label_of_root[root] == usize::MAX {
-                label_of_root[root] = segment_areas.len();
-                segment_areas.push(0.0);
-            }
-            labels[t] = label_of_root[root];
-            segment_areas[labels[t]] += areas[t];
+        let roots: Vec<usize> = (0..areas.len()).map(|t| self.sets.find(t)).collect();
+        let labels = relabel_by_first_appearance(&roots);
+        let mut segment_areas = vec![0.0; self.count];
+        for (&label, &area) in labels.iter().zip(areas) {
+            segment_areas[label] += area;
         }
         (labels, segment_areas)
     }
