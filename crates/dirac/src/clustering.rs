@@ -176,9 +176,12 @@ fn nearest(point: &[f64], centres: &[f64], dimension: usize) -> (usize, f64) {
         .chunks_exact(dimension)
         .map(|centre| squared_distance(point, centre))
         .enumerate()
-        .fold((0, f64::INFINITY), |best, (c, d)| {
-            if d < best.1 { (c, d) } else { best }
-        })
+        .fold(
+            (0, f64::INFINITY),
+            |best, (c, d)| {
+                if d < best.1 { (c, d) } else { best }
+            },
+        )
 }
 
 /// The initial centres, `k` flat rows.

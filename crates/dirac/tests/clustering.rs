@@ -47,7 +47,10 @@ fn a_converged_clustering_is_a_fixed_point_of_lloyd() {
         for p in 0..points.len() {
             let own = d2(points.point(p), centre(c.assignment[p]));
             for k in 0..5 {
-                assert!(own <= d2(points.point(p), centre(k)), "point {p} nearer to {k}");
+                assert!(
+                    own <= d2(points.point(p), centre(k)),
+                    "point {p} nearer to {k}"
+                );
             }
         }
         for k in 0..5 {
@@ -66,7 +69,12 @@ fn a_converged_clustering_is_a_fixed_point_of_lloyd() {
 fn one_cluster_per_point_reproduces_the_points() {
     let values = [3.0, -1.0, 0.5, 2.0, 7.0, 7.5];
     let points = Points::new(&values, 2).unwrap();
-    let c = kmeans(&points, &options(3, Initialisation::Uniform), &mut SplitMix64::new(1)).unwrap();
+    let c = kmeans(
+        &points,
+        &options(3, Initialisation::Uniform),
+        &mut SplitMix64::new(1),
+    )
+    .unwrap();
     let mut seen = c.assignment.clone();
     seen.sort_unstable();
     assert_eq!(seen, [0, 1, 2]);
@@ -103,7 +111,10 @@ fn the_same_seed_gives_the_same_clustering() {
 
 #[test]
 fn bad_points_and_counts_are_named() {
-    assert_eq!(Points::new(&[1.0], 0).unwrap_err(), ClusteringError::ZeroDimension);
+    assert_eq!(
+        Points::new(&[1.0], 0).unwrap_err(),
+        ClusteringError::ZeroDimension
+    );
     assert_eq!(
         Points::new(&[1.0, 2.0, 3.0], 2).unwrap_err(),
         ClusteringError::RaggedRows {
@@ -120,7 +131,12 @@ fn bad_points_and_counts_are_named() {
     let points = Points::new(&[0.0, 1.0], 1).unwrap();
     for clusters in [0, 3] {
         assert_eq!(
-            kmeans(&points, &KMeansOptions::new(clusters), &mut SplitMix64::new(0)).unwrap_err(),
+            kmeans(
+                &points,
+                &KMeansOptions::new(clusters),
+                &mut SplitMix64::new(0)
+            )
+            .unwrap_err(),
             ClusteringError::ClusterCount {
                 clusters,
                 points: 2

@@ -77,7 +77,8 @@ fn halves(slope: f64) -> (TriMesh, Vec<f64>, Vec<usize>) {
     let mut rows = Vec::new();
     let mut side = Vec::new();
     for f in mesh.faces() {
-        let centroid = |axis: usize| f.iter().map(|&v| mesh.positions()[v][axis]).sum::<f64>() / 3.0;
+        let centroid =
+            |axis: usize| f.iter().map(|&v| mesh.positions()[v][axis]).sum::<f64>() / 3.0;
         let right = centroid(0) > 0.0;
         let base = if right { 10.0 } else { 0.0 };
         rows.extend([base + slope * centroid(1), base]);
@@ -93,13 +94,20 @@ fn constant_halves_give_two_segments_at_every_threshold() {
     let result = consensus_segmentation(&mesh, &rows, 2, &options).unwrap();
     assert_valid(&mesh, &result);
     assert_eq!(result.segment_count(), 2);
-    assert_eq!(result.labels, side, "face 0 is on the left, so the left half is 0");
+    assert_eq!(
+        result.labels, side,
+        "face 0 is on the left, so the left half is 0"
+    );
     // Every trial separates the halves and nothing else: one run over all thresholds.
     assert_eq!(result.levels.len(), options.trials);
     assert!(result.levels.iter().all(|l| l.segments == 2));
     assert_eq!(result.runs.len(), 1);
     assert_eq!((result.run().lowest, result.run().highest), (0.0, 1.0));
-    assert_eq!(result.threshold, 20.0 / 40.0, "the middle level ⌊(1 + 40)/2⌋ = 20");
+    assert_eq!(
+        result.threshold,
+        20.0 / 40.0,
+        "the middle level ⌊(1 + 40)/2⌋ = 20"
+    );
     assert!((result.areas[0] - 2.0).abs() < 1e-12 && (result.areas[1] - 2.0).abs() < 1e-12);
 }
 
@@ -113,7 +121,11 @@ fn halves_with_a_trend_inside_are_still_two_segments() {
     // The halves are cut into bands at high thresholds, so there is more than one run, and
     // the chosen one is the widest.
     assert!(result.runs.len() > 1);
-    let widest = result.runs.iter().map(|r| r.persistence()).fold(0.0, f64::max);
+    let widest = result
+        .runs
+        .iter()
+        .map(|r| r.persistence())
+        .fold(0.0, f64::max);
     assert_eq!(result.run().persistence(), widest);
 }
 
@@ -211,14 +223,20 @@ fn bad_input_is_named() {
             max_clusters: max,
             ..default
         };
-        assert_eq!(run(&rows, 2, options), SegmentationError::ClusterRange { min, max });
+        assert_eq!(
+            run(&rows, 2, options),
+            SegmentationError::ClusterRange { min, max }
+        );
     }
     let options = ConsensusOptions {
         min_area_fraction: 1.0,
         ..default
     };
     assert_eq!(run(&rows, 2, options), SegmentationError::AreaFraction(1.0));
-    let options = ConsensusOptions { trials: 0, ..default };
+    let options = ConsensusOptions {
+        trials: 0,
+        ..default
+    };
     assert_eq!(run(&rows, 2, options), SegmentationError::NoTrials);
     let options = ConsensusOptions {
         segments: Some(0),

@@ -1,11 +1,10 @@
 //! The separation metrics and the 2-D embedding against hand-checkable configurations.
 
+use dirac::clustering::{Initialisation, KMeansOptions, Points, kmeans};
 use experiments::embedding::classical_mds;
 use experiments::metrics::{
-    Scores, distance_matrix, leave_one_out_accuracy, mean_kmeans_purity, purity,
-    separation_ratio,
+    Scores, distance_matrix, leave_one_out_accuracy, mean_kmeans_purity, purity, separation_ratio,
 };
-use dirac::clustering::{Initialisation, KMeansOptions, Points, kmeans};
 use qscalar::random::SplitMix64;
 
 /// Three tight clusters of four points around far-apart centres in 3-D.
@@ -44,7 +43,9 @@ fn separated_clusters_score_perfectly() {
         ..KMeansOptions::new(3)
     };
     for _ in 0..20 {
-        let assignment = kmeans(&rows, &options, &mut rng).expect("3 ≤ 12").assignment;
+        let assignment = kmeans(&rows, &options, &mut rng)
+            .expect("3 ≤ 12")
+            .assignment;
         let p = purity(&assignment, &labels);
         assert!(p == 1.0 || (p - 8.0 / 12.0).abs() < 1e-12, "purity {p}");
     }

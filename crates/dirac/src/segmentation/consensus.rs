@@ -35,6 +35,8 @@
 //! Segments are connected (faces are joined across shared edges only) and numbered `0…S−1` in
 //! order of their smallest face index.
 
+use std::cmp::Reverse;
+
 use qscalar::random::SplitMix64;
 use thiserror::Error;
 
@@ -307,7 +309,7 @@ pub fn consensus_segmentation(
         }
     }
     // Decreasing agreement, ties by edge index (the sort is stable).
-    adjacency.sort_by(|a, b| b.agreement.cmp(&a.agreement));
+    adjacency.sort_by_key(|e| Reverse(e.agreement));
 
     let areas = face_areas(mesh);
     let smallest = options.min_area_fraction * areas.iter().sum::<f64>();
