@@ -10,6 +10,7 @@ use crate::commands::plot::{self, PlotArgs, PlotCommand};
 use crate::commands::render::{self, RenderArgs};
 use crate::commands::repair::{self, RepairArgs};
 use crate::commands::segment::{self, SegmentArgs};
+use crate::commands::segment_eval::{self, SegmentEvalArgs};
 use crate::commands::spectrum::{self, SpectrumArgs};
 use crate::common::error::CliError;
 use crate::common::solve_args::SolveArgs;
@@ -65,6 +66,10 @@ pub enum Command {
     /// edges and vertices, orient faces) and write it, reporting every change.
     #[command(after_help = repair::AFTER_HELP)]
     Repair(RepairArgs),
+    /// Score a segmentation (.seg) against reference segmentations of the same mesh with the
+    /// Princeton benchmark's measures: Cut Discrepancy, Hamming, Rand index, GCE, LCE.
+    #[command(after_help = segment_eval::AFTER_HELP)]
+    SegmentEval(SegmentEvalArgs),
 }
 
 impl Command {
@@ -78,6 +83,7 @@ impl Command {
             Command::Render(_) => &["render"],
             Command::Repair(_) => &["repair"],
             Command::Segment(_) => &["segment"],
+            Command::SegmentEval(_) => &["segment-eval"],
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(_),
             }) => &["plot", "spectra"],
@@ -96,7 +102,7 @@ impl Command {
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(args),
             }) => Some(&args.solve),
-            Command::Repair(_) => None,
+            Command::Repair(_) | Command::SegmentEval(_) => None,
         }
     }
 }
@@ -121,6 +127,7 @@ pub fn dispatch(command: &Command) -> Result<(), CliError> {
         Command::Plot(args) => plot::run(args),
         Command::Repair(args) => repair::run(args),
         Command::Segment(args) => segment::run(args),
+        Command::SegmentEval(args) => segment_eval::run(args),
     });
     outcome.map_err(|error| match error {
         CliError::Usage(usage) => CliError::Usage(with_usage_line(usage, command.path())),

@@ -1,6 +1,8 @@
 //! Charts: spectra of several meshes or operators in one picture (eigenvalue index against
 //! eigenvalue, like the paper's Figures 8 and 13) and labelled 2-D point sets (like Figure 9),
-//! each with a title, axis labels and a legend, written as PNG or SVG by the file's extension.
+//! optionally on a logarithmic y axis with horizontal reference levels (a score per shape and
+//! its thresholds), each with a title, axis labels and a legend, written as PNG or SVG by the
+//! file's extension.
 //!
 //! Groups are told apart by colour, from the Okabe–Ito palette (distinguishable with the
 //! common colour-vision deficiencies), repeated after eight groups.
@@ -34,6 +36,54 @@ pub struct PointGroup {
     pub points: Vec<(f64, f64)>,
 }
 
+/// A horizontal line across the whole chart at height `value` (a threshold, say).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level {
+    /// Legend entry.
+    pub label: String,
+    /// Its height on the y axis.
+    pub value: f64,
+}
+
+/// The axis descriptions and the y scale of [`plot_points_with_levels`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axes<'a> {
+    /// Description of the x axis.
+    pub x: &'a str,
+    /// Description of the y axis.
+    pub y: &'a str,
+    /// A logarithmic y axis (every y value and level must then be positive).
+    pub log_y: bool,
+    /// Where the legend goes (a corner the data leave free).
+    pub legend: Corner,
+}
+
+/// A corner of a chart's plotting area.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Corner {
+    /// Top left (the default of every chart).
+    #[default]
+    UpperLeft,
+    /// Top right.
+    UpperRight,
+    /// Bottom left.
+    LowerLeft,
+    /// Bottom right.
+    LowerRight,
+}
+
+impl Corner {
+    /// The plotters position.
+    fn position(self) -> SeriesLabelPosition {
+        match self {
+            Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+            Corner::UpperRight => SeriesLabelPosition::UpperRight,
+            Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Corner::LowerRight => SeriesLabelPosition::LowerRight,
+        }
+    }
+}
+
 /// Why a chart could not be made.
 #[derive(Debug, Error)]
 pub enum PlotError {
@@ -46,6 +96,19 @@ pub enum PlotError {
         /// The series' or group's label.
         label: String,
         /// Index of the value (of the point for a group).
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+    /// A y value or level is zero or negative on a logarithmic y axis.
+    #[error(
+        "`{label}` has the value {value} at index {index}, which a logarithmic axis cannot show \
+         (only positive values)"
+    )]
+    NonPositive {
+        /// The group's or level's label.
+        label: String,
+        /// Index of the point (0 for a level).
         index: usize,
         /// The value.
         value: f64,
@@ -98,22 +161,47 @@ pub fn plot_spectra(series: &[Series], title: &str, path: &Path) -> Result<(), P
         groups,
         lines: true,
         x_ticks: longest.clamp(1, DEFAULT_TICKS),
+        levels: Vec::new(),
+        log_y: false,
+        legend: Corner::UpperLeft,
     };
     chart.save(path)
 }
 
 /// Plots each group's points as dots of one colour into `path` (`.png` or `.svg`).
 pub fn plot_points(groups: &[PointGroup], title: &str, path: &Path) -> Result<(), PlotError> {
+    let axes = Axes {
+        x: "first coordinate",
+        y: "second coordinate",
+        log_y: false,
+        legend: Corner::UpperLeft,
+    };
+    plot_points_with_levels(groups, &[], axes, title, path)
+}
+
+/// Plots each group's points as dots of one colour and each level as a horizontal line across
+/// the chart (colours continuing the groups'), with the axes described by `axes`, y
+/// logarithmic when `axes.log_y`, into `path` (`.png` or `.svg`).
+pub fn plot_points_with_levels(
+    groups: &[PointGroup],
+    levels: &[Level],
+    axes: Axes,
+    title: &str,
+    path: &Path,
+) -> Result<(), PlotError> {
     let chart = Chart {
         title,
-        x_description: "first coordinate",
-        y_description: "second coordinate",
+        x_description: axes.x,
+        y_description: axes.y,
         groups: groups
             .iter()
             .map(|g| (g.label.as_str(), g.points.clone()))
             .collect(),
         lines: false,
         x_ticks: DEFAULT_TICKS,
+        levels: levels.iter().map(|l| (l.label.as_str(), l.value)).collect(),
+        log_y: axes.log_y,
+        legend: axes.legend,
     };
     chart.save(path)
 }
@@ -137,7 +225,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(240, 228, 66),
 ];
 
-/// What both kinds of chart have in common: labelled groups of points on linear axes.
+/// What every kind of chart has in common: labelled groups of points and horizontal levels on
+/// a linear x axis and a linear or logarithmic y axis.
 struct Chart<'a> {
     title: &'a str,
     x_description: &'a str,
@@ -147,6 +236,12 @@ struct Chart<'a> {
     lines: bool,
     /// Most tick labels on the x axis.
     x_ticks: usize,
+    /// Horizontal lines: legend entry and height.
+    levels: Vec<(&'a str, f64)>,
+    /// Logarithmic y axis: drawn as `log₁₀ y` on a linear axis whose tick labels show `y`.
+    log_y: bool,
+    /// Where the legend goes.
+    legend: Corner,
 }
 
 impl Chart<'_> {
@@ -190,18 +285,37 @@ impl Chart<'_> {
         if self.groups.iter().all(|(_, points)| points.is_empty()) {
             return Err(PlotError::Empty);
         }
-        for (label, points) in &self.groups {
+        let levels = self
+            .levels
+            .iter()
+            .map(|&(label, y)| (label, vec![(0.0, y)]));
+        let all: Vec<(&str, Vec<(f64, f64)>)> = self.groups.iter().cloned().chain(levels).collect();
+        for (label, points) in &all {
             for (index, &(x, y)) in points.iter().enumerate() {
-                if let Some(value) = [x, y].into_iter().find(|v| !v.is_finite()) {
-                    return Err(PlotError::NonFinite {
+                let error = if let Some(value) = [x, y].into_iter().find(|v| !v.is_finite()) {
+                    PlotError::NonFinite {
                         label: label.to_string(),
                         index,
                         value,
-                    });
-                }
+                    }
+                } else if self.log_y && y <= 0.0 {
+                    PlotError::NonPositive {
+                        label: label.to_string(),
+                        index,
+                        value: y,
+                    }
+                } else {
+                    continue;
+                };
+                return Err(error);
             }
         }
         Ok(())
+    }
+
+    /// The height at which `y` is drawn: `log₁₀ y` on a logarithmic axis.
+    fn drawn_y(&self, y: f64) -> f64 {
+        if self.log_y { y.log10() } else { y }
     }
 
     fn draw<DB: DrawingBackend>(
@@ -209,9 +323,22 @@ impl Chart<'_> {
         area: DrawingArea<DB, Shift>,
     ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
         area.fill(&WHITE)?;
-        let all = || self.groups.iter().flat_map(|(_, points)| points.iter());
+        let groups: Vec<(&str, Vec<(f64, f64)>)> = self
+            .groups
+            .iter()
+            .map(|(label, points)| {
+                let drawn = points.iter().map(|&(x, y)| (x, self.drawn_y(y)));
+                (*label, drawn.collect())
+            })
+            .collect();
+        let levels: Vec<(&str, f64)> = (self.levels.iter())
+            .map(|&(label, y)| (label, self.drawn_y(y)))
+            .collect();
+        let all = || groups.iter().flat_map(|(_, points)| points.iter());
         let x_range = padded_range(all().map(|p| p.0));
-        let y_range = padded_range(all().map(|p| p.1));
+        let y_range = padded_range(all().map(|p| p.1).chain(levels.iter().map(|l| l.1)));
+        let (x_low, x_high) = (x_range.start, x_range.end);
+        let y_label = |y: &f64| format_value(if self.log_y { 10f64.powf(*y) } else { *y });
         let mut chart = ChartBuilder::on(&area)
             .caption(self.title, (FONT_FAMILY, 24))
             .margin(16)
@@ -227,10 +354,23 @@ impl Chart<'_> {
             .x_labels(self.x_ticks)
             .y_labels(DEFAULT_TICKS)
             .x_label_formatter(&|x| format_value(*x))
-            .y_label_formatter(&|y| format_value(*y))
+            .y_label_formatter(&y_label)
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
-        for (i, (label, points)) in self.groups.iter().enumerate() {
+        // Levels first, so that the dots stay visible on top of them.
+        for (j, &(label, y)) in levels.iter().enumerate() {
+            let colour = PALETTE[(groups.len() + j) % PALETTE.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    [(x_low, y), (x_high, y)],
+                    colour.stroke_width(2),
+                ))?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+                });
+        }
+        for (i, (label, points)) in groups.iter().enumerate() {
             let colour = PALETTE[i % PALETTE.len()];
             // Lines first, so the dots stay visible on top of them.
             if self.lines {
@@ -253,7 +393,7 @@ impl Chart<'_> {
         }
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(self.legend.position())
             .label_font((FONT_FAMILY, 15))
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(120, 120, 120))

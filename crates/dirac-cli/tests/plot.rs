@@ -9,7 +9,10 @@ use std::path::PathBuf;
 
 use dirac::generators::icosphere;
 use dirac::io::write_obj;
-use dirac_cli::plot::{PlotError, PointGroup, Series, plot_points, plot_spectra};
+use dirac_cli::plot::{
+    Axes, Corner, Level, PlotError, PointGroup, Series, plot_points, plot_points_with_levels,
+    plot_spectra,
+};
 
 use support::{Picture, assert_usage_errors, dirac, stderr, temporary, text};
 
@@ -67,6 +70,89 @@ fn point_charts_have_one_legend_entry_per_group() {
     assert!(svg.contains("organic") && svg.contains("man-made") && svg.contains("shapes"));
     // One dot per point plus one legend marker per group.
     assert_eq!(svg.matches("<circle").count(), 4 + 2, "{svg}");
+}
+
+fn score_groups() -> Vec<PointGroup> {
+    vec![
+        PointGroup {
+            label: "low scores".to_string(),
+            // x from 11 on, so that no x tick reads 1 or 10.
+            points: vec![(11.0, 1.0), (12.0, 10.0)],
+        },
+        PointGroup {
+            label: "high scores".to_string(),
+            points: vec![(13.0, 1000.0), (14.0, 10000.0)],
+        },
+    ]
+}
+
+const LOG_AXES: Axes = Axes {
+    x: "shape rank",
+    y: "score",
+    log_y: true,
+    legend: Corner::LowerRight,
+};
+
+#[test]
+fn level_charts_draw_their_levels_on_a_logarithmic_axis() {
+    let levels = [Level {
+        label: "threshold 100".to_string(),
+        value: 100.0,
+    }];
+    let path = temporary("plot_levels.svg");
+    plot_points_with_levels(&score_groups(), &levels, LOG_AXES, "scores", &path).expect("plots");
+    let svg = fs::read_to_string(&path).expect("the SVG exists");
+    for text in [
+        "low scores",
+        "high scores",
+        "threshold 100",
+        "shape rank",
+        "score",
+    ] {
+        assert!(svg.contains(text), "{text} missing from the SVG");
+    }
+    // Equal steps of the y ticks are equal factors: a linear axis over [1, 10⁴] would label
+    // neither 1 nor 10 (its ticks are multiples of 1000), the logarithmic one labels both.
+    let texts: Vec<&str> = svg
+        .split("</text>")
+        .filter_map(|chunk| chunk.rsplit_once('>').map(|(_, text)| text.trim()))
+        .collect();
+    for tick in ["1", "10", "100", "1000"] {
+        assert!(texts.contains(&tick), "tick {tick} missing from {texts:?}");
+    }
+    assert_eq!(svg.matches("<circle").count(), 4 + 2, "{svg}");
+}
+
+#[test]
+fn a_logarithmic_axis_rejects_values_it_cannot_show() {
+    let path = temporary("never-written-levels.svg");
+    let mut groups = score_groups();
+    groups[1].points[1].1 = 0.0;
+    match plot_points_with_levels(&groups, &[], LOG_AXES, "t", &path) {
+        Err(PlotError::NonPositive {
+            label,
+            index,
+            value,
+        }) => {
+            assert_eq!((label.as_str(), index, value), ("high scores", 1, 0.0))
+        }
+        other => panic!("{other:?}"),
+    }
+    let negative_level = [Level {
+        label: "below zero".to_string(),
+        value: -1.0,
+    }];
+    let error = plot_points_with_levels(&score_groups(), &negative_level, LOG_AXES, "t", &path)
+        .expect_err("a negative level");
+    assert!(error.to_string().contains("below zero"), "{error}");
+    assert!(!path.exists());
+    // The same data on a linear axis are fine.
+    let linear = Axes {
+        log_y: false,
+        ..LOG_AXES
+    };
+    let path = temporary("plot_levels_linear.svg");
+    plot_points_with_levels(&groups, &negative_level, linear, "t", &path).expect("plots");
 }
 
 #[test]

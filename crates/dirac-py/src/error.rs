@@ -187,8 +187,9 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
         | SpectrumError::InvalidFlatTolerance(_)
         | SpectrumError::InvalidTolerance(_)
         | SpectrumError::InvalidMaxRestarts
+        | SpectrumError::ReferenceUnused { .. }
         | SpectrumError::Operator(_) => Kind::Options,
-        SpectrumError::ScaleOutOfRange => Kind::Mesh,
+        SpectrumError::ScaleOutOfRange | SpectrumError::ReferenceConnectivity(_) => Kind::Mesh,
         SpectrumError::VanishingOperator { .. } | SpectrumError::TooFewNonzero { .. } => {
             Kind::Kernel
         }

@@ -16,7 +16,9 @@ use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, read_raw, write_obj, write_ply};
 use dirac::repair::{DEFAULT_MERGE_DISTANCE, RepairOptions};
-use dirac::spectrum::{DEFAULT_FLAT_TOLERANCE, spectrum_with_progress};
+use dirac::spectrum::{
+    DEFAULT_FLAT_TOLERANCE, relative_spectrum_with_progress, spectrum_with_progress,
+};
 use dirac::well::PotentialWell;
 use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
@@ -268,8 +270,10 @@ fn progress_dict<'py>(py: Python<'py>, state: &Progress) -> PyResult<Bound<'py, 
     Ok(dict)
 }
 
-/// The spectrum of `(V, F)` as a dict (see `dirac_spectra.Spectrum`).
+/// The spectrum of `(V, F)` as a dict (see `dirac_spectra.Spectrum`); relative to the surface
+/// `(relative_to, F)` when given (`D_{f1,f2}`).
 #[pyfunction]
+#[pyo3(signature = (vertices, faces, request, eigenvectors, progress, relative_to = None))]
 fn spectrum<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
@@ -277,11 +281,18 @@ fn spectrum<'py>(
     request: Request,
     eigenvectors: bool,
     progress: Option<Py<PyAny>>,
+    relative_to: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
+    let reference = relative_to
+        .map(|positions| convert::mesh(py, &positions, &faces))
+        .transpose()?;
     let options = request.options(py)?;
-    let result = run_reporting(py, request.threads, progress, |report| {
-        spectrum_with_progress(&mesh, &options, Some(report))
+    let result = run_reporting(py, request.threads, progress, |report| match &reference {
+        Some(reference) => {
+            relative_spectrum_with_progress(&mesh, reference, &options, Some(report))
+        }
+        None => spectrum_with_progress(&mesh, &options, Some(report)),
     })?;
     match result {
         Ok(spectrum) => convert::spectrum_dict(py, &spectrum, eigenvectors),

@@ -51,10 +51,10 @@ mod topology;
 pub mod well;
 
 pub use io::default_mesh;
-pub use mesh::{Edge, MeshError, TriMesh};
+pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, ParseOperatorError, SolverBackend,
-    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, spectrum,
+    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, relative_spectrum, spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,

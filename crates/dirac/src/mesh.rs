@@ -294,7 +294,66 @@ fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// How two meshes differ in connectivity ([`TriMesh::check_same_connectivity`]): the first
+/// difference found, in the order vertex count, face count, faces.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum ConnectivityMismatch {
+    /// The vertex counts differ.
+    #[error("the meshes have {this} and {other} vertices")]
+    VertexCount {
+        /// Vertices of this mesh.
+        this: usize,
+        /// Vertices of the other mesh.
+        other: usize,
+    },
+    /// The face counts differ.
+    #[error("the meshes have {this} and {other} faces")]
+    FaceCount {
+        /// Faces of this mesh.
+        this: usize,
+        /// Faces of the other mesh.
+        other: usize,
+    },
+    /// A face has other vertices (or the same in another order).
+    #[error("face {face} is {this:?} in one mesh and {other:?} in the other")]
+    Face {
+        /// The face.
+        face: usize,
+        /// Its vertices in this mesh.
+        this: [usize; 3],
+        /// Its vertices in the other mesh.
+        other: [usize; 3],
+    },
+}
+
 impl TriMesh {
+    /// `Ok` when `other` has the same vertex count and the same faces, vertex for vertex in the
+    /// same order (two immersions of one triangulation, as the relative Dirac operator
+    /// `D_{f1,f2}` needs); otherwise the first difference.
+    pub fn check_same_connectivity(&self, other: &TriMesh) -> Result<(), ConnectivityMismatch> {
+        if self.vertex_count() != other.vertex_count() {
+            return Err(ConnectivityMismatch::VertexCount {
+                this: self.vertex_count(),
+                other: other.vertex_count(),
+            });
+        }
+        if self.face_count() != other.face_count() {
+            return Err(ConnectivityMismatch::FaceCount {
+                this: self.face_count(),
+                other: other.face_count(),
+            });
+        }
+        match (self.faces.iter().zip(&other.faces)).position(|(a, b)| a != b) {
+            None => Ok(()),
+            Some(face) => Err(ConnectivityMismatch::Face {
+                face,
+                this: self.faces[face],
+                other: other.faces[face],
+            }),
+        }
+    }
+
     /// Builds and validates a mesh (docs/ARCHITECTURE.md, "Errors"). Checked in this order, the
     /// first failure is returned: non-empty; every index in range and distinct within its face;
     /// every vertex used by a face; finite coordinates; every face of positive area with a finite

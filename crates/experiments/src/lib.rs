@@ -14,23 +14,32 @@
 //!   against their human segmentations (§6.2, Fig. 11);
 //! * [`flat_vs_curved`]: kernel and small eigenvalues of `D_N` on a cube and a sphere (Fig. 5,
 //!   Fig. 9);
+//! * [`two_surfaces`]: the relative Dirac operator `D_{f1,f2}` of a surface and a deformed copy
+//!   (Fig. 3);
+//! * [`man_made`]: man-made versus organic shapes of a labelled folder by the paper's score
+//!   (mean `λ²` of the first 25 eigenvalues of `D_N`), thresholds learnt leave-one-out, and
+//!   nearest neighbours on `log |λ|` (§6.1, Fig. 9);
 //! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
 //!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
 //!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
-//!   error; [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
+//!   error; [`threshold`]: one-number classifiers with a threshold learnt leave-one-out;
+//!   [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
 
 pub mod args;
 pub mod bumps;
 pub mod correspondence;
 pub mod embedding;
 pub mod flat_vs_curved;
+pub mod man_made;
 pub mod metrics;
 pub mod patches;
 pub mod plots;
 pub mod report;
 pub mod segmentation;
 pub mod spectra;
+pub mod threshold;
 pub mod tori;
+pub mod two_surfaces;
 
 use thiserror::Error;
 
@@ -75,9 +84,6 @@ pub enum ExperimentError {
     /// A picture could not be rendered.
     #[error(transparent)]
     Render(#[from] dirac_cli::render::RenderError),
-    /// A mesh file could not be read.
-    #[error(transparent)]
-    Read(#[from] dirac::io::ReadError),
     /// A `.seg` file could not be read.
     #[error(transparent)]
     SegFile(#[from] dirac::segmentation::seg_file::SegFileError),
@@ -87,6 +93,30 @@ pub enum ExperimentError {
     /// A segmentation could not be scored.
     #[error(transparent)]
     Evaluation(#[from] dirac::segmentation::evaluation::EvaluationError),
+    /// A mesh file could not be written.
+    #[error(transparent)]
+    WriteMesh(#[from] dirac::io::WriteError),
+    /// A mesh file could not be read or is not a valid mesh.
+    #[error(transparent)]
+    Read(#[from] dirac::io::ReadError),
+    /// What went wrong with one input file.
+    #[error("{}: {source}", path.display())]
+    InFile {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The failure.
+        source: Box<ExperimentError>,
+    },
+    /// A label file is missing or malformed.
+    #[error("{}: line {line}: {message}", path.display())]
+    Labels {
+        /// The label file.
+        path: std::path::PathBuf,
+        /// Its line.
+        line: u64,
+        /// What is wrong.
+        message: String,
+    },
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] std::io::Error),

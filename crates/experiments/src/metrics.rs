@@ -25,22 +25,23 @@ pub fn distance_matrix(points: &[Vec<f64>]) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// The item nearest to item `i` other than itself: smallest `D_ij`, `j ≠ i`, the lowest index
+/// on ties; `None` without another item.
+pub fn nearest_other(distances: &[Vec<f64>], i: usize) -> Option<usize> {
+    (0..distances.len())
+        .filter(|&j| j != i)
+        .min_by(|&a, &b| distances[i][a].total_cmp(&distances[i][b]))
+}
+
 /// Leave-one-out 1-nearest-neighbour accuracy: the share of items `i` whose nearest other item
-/// `j ≠ i` (smallest `D_ij`, the lowest index on ties) has the same label. 0 for fewer than
-/// two items.
+/// ([`nearest_other`]) has the same label. 0 for fewer than two items.
 pub fn leave_one_out_accuracy(distances: &[Vec<f64>], labels: &[usize]) -> f64 {
     let n = labels.len();
     if n < 2 {
         return 0.0;
     }
     let correct = (0..n)
-        .filter(|&i| {
-            let nearest = (0..n)
-                .filter(|&j| j != i)
-                .min_by(|&a, &b| distances[i][a].total_cmp(&distances[i][b]))
-                .expect("at least two items");
-            labels[nearest] == labels[i]
-        })
+        .filter(|&i| nearest_other(distances, i).is_some_and(|j| labels[j] == labels[i]))
         .count();
     correct as f64 / n as f64
 }

@@ -1,11 +1,15 @@
 //! The charts the examples write (through `dirac_cli::plot`): mean spectrum per class and the
-//! 2-D embedding of the spectral distances, one file per operator.
+//! 2-D embedding of the spectral distances, one file per operator; a score per shape against
+//! its thresholds (Fig. 9).
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
 use dirac::spectrum::Operator;
-use dirac_cli::plot::{PointGroup, Series, plot_points, plot_spectra};
+use dirac_cli::plot::{
+    Axes, Corner, Level, PointGroup, Series, plot_points, plot_points_with_levels, plot_spectra,
+};
+use dirac_cli::render::format_value;
 
 use crate::ExperimentError;
 use crate::embedding::classical_mds;
@@ -91,6 +95,64 @@ pub fn write_embedding_plots(
         )?;
         Ok(())
     })
+}
+
+/// One score per shape on a logarithmic axis against the shape's rank (1 = smallest score,
+/// ties in the given order), one colour per class (`labels[i]` indexes `names`), with the
+/// horizontal `levels` (thresholds), into `path`. A logarithmic axis cannot show 0: zero
+/// scores are drawn at a floor a tenth of the smallest positive score or level, and the
+/// class's legend entry says how many. Scores must be finite and nonnegative.
+pub fn write_score_plot(
+    scores: &[f64],
+    labels: &[usize],
+    names: &[String],
+    levels: &[Level],
+    (title, y_description): (&str, &str),
+    path: &Path,
+) -> Result<(), ExperimentError> {
+    let mut order: Vec<usize> = (0..scores.len()).collect();
+    order.sort_by(|&a, &b| scores[a].total_cmp(&scores[b]));
+    let smallest = (scores.iter().chain(levels.iter().map(|l| &l.value)))
+        .copied()
+        .filter(|&v| v > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let floor = if smallest.is_finite() {
+        smallest / 10.0
+    } else {
+        1.0
+    };
+    let groups: Vec<PointGroup> = (names.iter().enumerate())
+        .map(|(class, name)| {
+            let members = || (order.iter().enumerate()).filter(|&(_, &i)| labels[i] == class);
+            let zeros = members().filter(|&(_, &i)| scores[i] == 0.0).count();
+            let label = match zeros {
+                0 => name.clone(),
+                _ => format!(
+                    "{name} ({zeros} with score 0, drawn at {})",
+                    format_value(floor)
+                ),
+            };
+            let points = members()
+                .map(|(rank, &i)| {
+                    let y = if scores[i] == 0.0 { floor } else { scores[i] };
+                    ((rank + 1) as f64, y)
+                })
+                .collect();
+            PointGroup { label, points }
+        })
+        .collect();
+    let axes = Axes {
+        x: "shape, by increasing score",
+        y: y_description,
+        log_y: true,
+        // Sorted ascending, the points leave the lower right free.
+        legend: Corner::LowerRight,
+    };
+    if let Some(dir) = path.parent() {
+        fs::create_dir_all(dir)?;
+    }
+    plot_points_with_levels(&groups, levels, axes, title, path)?;
+    Ok(())
 }
 
 /// Creates `dir` and calls `draw` with every operator's table and its file

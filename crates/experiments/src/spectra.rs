@@ -7,7 +7,9 @@
 use std::time::Instant;
 
 use dirac::TriMesh;
-use dirac::spectrum::{Normalization, Operator, SolverBackend, SpectrumOptions, spectrum};
+use dirac::spectrum::{
+    Normalization, Operator, SolverBackend, Spectrum, SpectrumOptions, spectrum,
+};
 use dirac::well::PotentialWell;
 
 use crate::ExperimentError;
@@ -39,6 +41,36 @@ pub struct OperatorSpectra {
     pub seconds: f64,
 }
 
+/// The options of every spectrum of the experiments: `operator`, `k` eigenvalues of smallest
+/// `|λ|`, `backend`, `normalization`, tolerance [`TOLERANCE`], the operator's default kernel
+/// listing, no well.
+pub fn experiment_options(
+    operator: Operator,
+    k: usize,
+    backend: SolverBackend,
+    normalization: Normalization,
+) -> SpectrumOptions {
+    let mut options = SpectrumOptions::new(operator, k);
+    options.backend = backend;
+    options.normalization = normalization;
+    options.tolerance = TOLERANCE;
+    options
+}
+
+/// [`spectrum`] of mesh number `index` of an experiment, its failure named by operator and
+/// mesh.
+pub fn solve(
+    mesh: &TriMesh,
+    options: &SpectrumOptions,
+    index: usize,
+) -> Result<Spectrum, ExperimentError> {
+    spectrum(mesh, options).map_err(|source| ExperimentError::Spectrum {
+        operator: options.operator,
+        mesh: index,
+        source,
+    })
+}
+
 /// The first `k` eigenvalues of every mesh under every operator with `backend` and
 /// `normalization`; `well(i)` gives
 /// the potential well of mesh `i` (or none).
@@ -58,18 +90,9 @@ pub fn compute_spectra(
                 .iter()
                 .enumerate()
                 .map(|(index, mesh)| {
-                    let mut options = SpectrumOptions::new(operator, k);
-                    options.backend = backend;
-                    options.normalization = normalization;
-                    options.tolerance = TOLERANCE;
+                    let mut options = experiment_options(operator, k, backend, normalization);
                     options.well = well(index);
-                    spectrum(mesh, &options)
-                        .map(|s| s.eigenvalues)
-                        .map_err(|source| ExperimentError::Spectrum {
-                            operator,
-                            mesh: index,
-                            source,
-                        })
+                    solve(mesh, &options, index).map(|s| s.eigenvalues)
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             Ok(OperatorSpectra {

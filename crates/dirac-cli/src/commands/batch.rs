@@ -350,7 +350,7 @@ impl Job<'_> {
             faces: Some(mesh.face_count() as u64),
             ..Row::failed(mesh_path, String::new())
         };
-        match solve_until(&mesh, &name, &self.options, true, interrupted) {
+        match solve_until(&mesh, None, &name, &self.options, true, interrupted) {
             Ok(solved) if !solved.converged && interrupted() => {
                 row.status = Status::Interrupted;
                 row.error = format!("{name}: stopped (interrupted); the next run computes it");

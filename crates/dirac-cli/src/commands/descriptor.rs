@@ -30,6 +30,7 @@ use crate::common::error::CliError;
 use crate::common::files::{has_extension, write_array};
 use crate::common::parsers::{finite, positive_count, positive_real, value_name};
 use crate::common::preparation::PreparedMesh;
+use crate::common::reference::ReferenceArgs;
 use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
@@ -67,6 +68,10 @@ pub struct DescriptorArgs {
     /// Operator and eigensolver (`hks` always uses the Laplacian).
     #[command(flatten)]
     pub solve: SolveArgs,
+
+    /// The second surface of D_{f1,f2}.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
 
     /// Times t > 0 of hks/dks, comma-separated; default: --samples times log-spaced over
     /// [4 ln10/|λ|max, 4 ln10/|λ|min] (nonzero |λ|).
@@ -247,12 +252,17 @@ pub fn run(args: &DescriptorArgs) -> Result<(), CliError> {
     if args.kind == DescriptorKind::Hks {
         args.solve.use_laplacian(&mut options, "hks");
     }
-    let PreparedMesh { mesh, name, .. } = args
+    args.reference.check(options.operator)?;
+    let prepared = args
         .solve
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;
+    let reference = args
+        .reference
+        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let PreparedMesh { mesh, name, .. } = prepared;
     check_size(args, mesh.vertex_count(), options.k)?;
-    let solved = solve(&mesh, &name, &options, args.quiet)?;
+    let solved = solve(&mesh, reference.as_ref(), &name, &options, args.quiet)?;
     let table = table(args, &solved.spectrum).map_err(|source| CliError::Descriptor {
         mesh: name.clone(),
         source,

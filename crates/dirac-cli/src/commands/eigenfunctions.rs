@@ -22,6 +22,7 @@ use ndarray::Array1;
 use crate::common::error::CliError;
 use crate::common::files::{eigenvector_array, has_extension, write_array};
 use crate::common::preparation::PreparedMesh;
+use crate::common::reference::ReferenceArgs;
 use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
@@ -53,6 +54,10 @@ pub struct EigenfunctionsArgs {
     /// Operator and eigensolver.
     #[command(flatten)]
     pub solve: SolveArgs,
+
+    /// The second surface of D_{f1,f2}.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
 
     /// Output: NAME.npy writes NAME.eigenvalues.npy (k) and NAME.eigenvectors.npy (n × k × 4,
     /// components w, x, y, z); NAME.ply writes the mesh with |φ_I| per vertex (`phi_abs`).
@@ -130,11 +135,16 @@ fn output(args: &EigenfunctionsArgs) -> Result<Output, CliError> {
 pub fn run(args: &EigenfunctionsArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let output = output(args)?;
-    let PreparedMesh { mesh, name, .. } = args
+    args.reference.check(options.operator)?;
+    let prepared = args
         .solve
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;
-    let solved = solve(&mesh, &name, &options, args.quiet)?;
+    let reference = args
+        .reference
+        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let PreparedMesh { mesh, name, .. } = prepared;
+    let solved = solve(&mesh, reference.as_ref(), &name, &options, args.quiet)?;
     let spectrum = &solved.spectrum;
     let converged = spectrum.eigenvalues.len();
 

@@ -9,4 +9,5 @@ pub mod plot;
 pub mod render;
 pub mod repair;
 pub mod segment;
+pub mod segment_eval;
 pub mod spectrum;

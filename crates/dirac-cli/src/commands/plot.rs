@@ -103,7 +103,7 @@ fn plot(args: &SpectraArgs) -> Result<(), CliError> {
             .and_then(|p| p.file_name())
             .map_or(name, |file| file.to_string_lossy().into_owned());
         for (choice, options) in choices.iter().zip(&options) {
-            let spectrum = solve_converged(&mesh, &name, options, args.quiet)?;
+            let spectrum = solve_converged(&mesh, None, &name, options, args.quiet)?;
             // Label by what varies: the mesh, the operator, or both.
             let label = match (args.meshes.len() > 1, choices.len() > 1) {
                 (true, true) => format!("{name}, {choice}"),

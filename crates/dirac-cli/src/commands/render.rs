@@ -22,6 +22,7 @@ use crate::common::parsers::{
     finite, parse_size, picture_path, positive_count, positive_real, value_name,
 };
 use crate::common::preparation::PreparedMesh;
+use crate::common::reference::ReferenceArgs;
 use crate::common::solve::solve_converged;
 use crate::common::solve_args::SolveArgs;
 
@@ -54,6 +55,10 @@ pub struct RenderArgs {
     /// Operator and eigensolver (`--quantity hks` always uses the Laplacian).
     #[command(flatten)]
     pub solve: SolveArgs,
+
+    /// The second surface of D_{f1,f2}.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
 
     /// The eigenfunction to draw, 0-based in the order of `dirac spectrum` (by |λ|) [default:
     /// 0]; the eigenpairs computed are the first max(k, I + N). Only for --quantity
@@ -192,10 +197,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             ),
         ));
     }
-    let PreparedMesh { mesh, name, .. } = args
+    args.reference.check(options.operator)?;
+    let prepared = args
         .solve
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;
+    let reference = args
+        .reference
+        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let PreparedMesh { mesh, name, .. } = prepared;
 
     let fields = match shading {
         Shading::Potential(well) => vec![potential(&mesh, &name, well, options.normalization)?],
@@ -212,7 +222,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 ));
             }
             options.k = options.k.max(wanted);
-            let spectrum = solve_converged(&mesh, &name, &options, args.quiet)?;
+            let spectrum = solve_converged(&mesh, reference.as_ref(), &name, &options, args.quiet)?;
             (first..wanted)
                 .map(|i| Field {
                     label: format!(
@@ -228,7 +238,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             if kernel == Quantity::Hks {
                 args.solve.use_laplacian(&mut options, "hks");
             }
-            let spectrum = solve_converged(&mesh, &name, &options, args.quiet)?;
+            let spectrum = solve_converged(&mesh, reference.as_ref(), &name, &options, args.quiet)?;
             signature_fields(kernel, at, count, &spectrum).map_err(|source| {
                 CliError::Descriptor {
                     mesh: name.clone(),

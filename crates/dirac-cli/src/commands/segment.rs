@@ -240,7 +240,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), CliError> {
         .solve
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;
-    let solved = solve(&mesh, &name, &options, args.quiet)?;
+    let solved = solve(&mesh, None, &name, &options, args.quiet)?;
     solved.check_converged(&name, options.k, "nothing written")?;
     let modes = Modes::from_spectrum(&solved.spectrum);
     let table = modes

@@ -8,6 +8,7 @@ use clap::Args;
 
 use crate::common::error::CliError;
 use crate::common::preparation::PreparedMesh;
+use crate::common::reference::ReferenceArgs;
 use crate::common::report::{Report, RunSettings, write_human, write_json};
 use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
@@ -21,6 +22,10 @@ pub struct SpectrumArgs {
     /// Operator and eigensolver.
     #[command(flatten)]
     pub solve: SolveArgs,
+
+    /// The second surface of D_{f1,f2}.
+    #[command(flatten)]
+    pub reference: ReferenceArgs,
 
     /// Print exactly one JSON object on stdout instead of tables.
     #[arg(long)]
@@ -36,25 +41,33 @@ pub struct SpectrumArgs {
 pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let start = Instant::now();
+    args.reference.check(options.operator)?;
+    let prepared = args
+        .solve
+        .preparation
+        .load(args.mesh.as_deref(), args.quiet)?;
+    let reference = args
+        .reference
+        .load(&args.solve.preparation, &prepared, args.quiet)?;
     let PreparedMesh {
         mesh,
         name,
         report: preparation,
-    } = args
-        .solve
-        .preparation
-        .load(args.mesh.as_deref(), args.quiet)?;
+    } = prepared;
     let load_time = start.elapsed();
 
-    let mut report = Report::new(
-        name,
-        &mesh,
-        RunSettings::new(&args.solve, &options),
-        load_time,
-    );
+    let mut settings = RunSettings::new(&args.solve, &options);
+    settings.relative_to = (args.reference.relative_to.as_ref()).map(|p| p.display().to_string());
+    let mut report = Report::new(name, &mesh, settings, load_time);
     report.preparation = Some(preparation);
 
-    let solved = solve(&mesh, &report.mesh, &options, args.quiet)?;
+    let solved = solve(
+        &mesh,
+        reference.as_ref(),
+        &report.mesh,
+        &options,
+        args.quiet,
+    )?;
     report.set_spectrum(&solved.spectrum, solved.elapsed);
     report.converged = solved.converged;
 

@@ -8,9 +8,11 @@ use dirac::descriptors::DescriptorError;
 use dirac::io::{ReadError, WriteError};
 use dirac::repair::RepairError;
 use dirac::segmentation::consensus::SegmentationError;
+use dirac::segmentation::evaluation::EvaluationError;
+use dirac::segmentation::seg_file::SegFileError;
 use dirac::spectrum::SpectrumError;
 use dirac::well::WellError;
-use dirac::{ComponentError, MeshError};
+use dirac::{ComponentError, ConnectivityMismatch, MeshError};
 use dirac_cli::plot::PlotError;
 use dirac_cli::render::RenderError;
 use ndarray_npy::WriteNpyError;
@@ -67,6 +69,20 @@ pub enum CliError {
         /// What failed.
         source: ComponentError,
     },
+    /// `--relative-to`: the reference surface is not the same triangulation as the mesh.
+    #[error(
+        "--relative-to {reference}: not the same triangulation as {mesh} ({source}); D_{{f1,f2}} \
+         needs two positions of the same vertices, faces listed identically (for example a \
+         mesh and a deformed copy written by the same program)"
+    )]
+    ReferenceConnectivity {
+        /// The mesh.
+        mesh: String,
+        /// The reference surface.
+        reference: String,
+        /// The first difference.
+        source: ConnectivityMismatch,
+    },
     /// The spectrum cannot be computed on this mesh.
     #[error("{mesh}: {source}")]
     Spectrum {
@@ -122,6 +138,23 @@ pub enum CliError {
         wanted: usize,
         /// What was done with the converged pairs (`printing those`, `nothing drawn`).
         doing: String,
+    },
+    /// A `.seg` file cannot be read, is malformed or does not fit the mesh (the message names
+    /// the mesh, the `.seg` file and, for a mismatch, both numbers).
+    #[error("{mesh}: {source}")]
+    SegFile {
+        /// The mesh file.
+        mesh: String,
+        /// What is wrong with the `.seg` file.
+        source: SegFileError,
+    },
+    /// Segmentations of the mesh cannot be compared.
+    #[error("{mesh}: {source}")]
+    Evaluation {
+        /// The mesh file.
+        mesh: String,
+        /// Why.
+        source: EvaluationError,
     },
     /// A file or directory cannot be read or written.
     #[error("{}: {source}", path.display())]

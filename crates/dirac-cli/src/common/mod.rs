@@ -7,6 +7,7 @@ pub mod files;
 pub mod parsers;
 pub mod preparation;
 pub mod progress;
+pub mod reference;
 pub mod report;
 pub mod solve;
 pub mod solve_args;

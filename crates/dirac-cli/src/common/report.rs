@@ -37,7 +37,7 @@ pub struct Report {
     pub topology: Topology,
     /// The operator and solver options (the keys `operator`, `tau`, `k`, `backend`,
     /// `normalize`, `well`, `include_kernel`, `flat_tolerance`, `tolerance`, `seed`,
-    /// `max_restarts`).
+    /// `max_restarts`, `repair`, `component`, and `relative_to` when given).
     #[serde(flatten)]
     pub settings: RunSettings,
     /// Whether all `k` eigenvalues converged (otherwise the lists hold those that did).
@@ -107,6 +107,9 @@ pub struct RunSettings {
     pub repair: Option<f64>,
     /// The `--component` value.
     pub component: String,
+    /// The `--relative-to` surface `f2` of `D_{f1,f2}`; absent without it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relative_to: Option<String>,
 }
 
 impl RunSettings {
@@ -134,6 +137,7 @@ impl RunSettings {
                 .repair
                 .then(|| solve.preparation.options.repair_options().merge_distance),
             component: solve.preparation.options.component.to_string(),
+            relative_to: None,
         }
     }
 }
@@ -267,6 +271,12 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         "operator    {}{tau}, k = {}, backend {}, normalize {}",
         settings.operator, settings.k, settings.backend, settings.normalize
     )?;
+    if let Some(reference) = &settings.relative_to {
+        writeln!(
+            out,
+            "relative to {reference} (D_N replaced by D_(mesh, {reference}))"
+        )?;
+    }
     if let Some(w) = &settings.well {
         let center = w
             .center

@@ -4,7 +4,10 @@ use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 use dirac::TriMesh;
-use dirac::spectrum::{Spectrum, SpectrumError, SpectrumOptions, spectrum_with_progress};
+use dirac::spectrum::{
+    Spectrum, SpectrumError, SpectrumOptions, relative_spectrum_with_progress,
+    spectrum_with_progress,
+};
 use qeig::Progress;
 
 use crate::common::error::CliError;
@@ -37,22 +40,24 @@ impl Solved {
     }
 }
 
-/// The spectrum of `mesh` (called `name` in messages) with the progress display on stderr
-/// (hidden with `quiet`). A solve that stops early is not an error here: it returns what
+/// The spectrum of `mesh` (called `name` in messages), relative to the `reference` surface when
+/// given (`--relative-to`), with the progress display on stderr (hidden with `quiet`). A solve that stops early is not an error here: it returns what
 /// converged with `converged: false`, and the caller reports it ([`Solved::check_converged`]).
 pub fn solve(
     mesh: &TriMesh,
+    reference: Option<&TriMesh>,
     name: &str,
     options: &SpectrumOptions,
     quiet: bool,
 ) -> Result<Solved, CliError> {
-    solve_until(mesh, name, options, quiet, || false)
+    solve_until(mesh, reference, name, options, quiet, || false)
 }
 
 /// [`solve`], stopped within one restart of the eigensolver once `stop()` is true (then it
 /// returns what converged by then, with `converged: false`).
 pub fn solve_until(
     mesh: &TriMesh,
+    reference: Option<&TriMesh>,
     name: &str,
     options: &SpectrumOptions,
     quiet: bool,
@@ -68,7 +73,12 @@ pub fn solve_until(
             ControlFlow::Continue(())
         }
     };
-    let result = spectrum_with_progress(mesh, options, Some(&mut show));
+    let result = match reference {
+        Some(reference) => {
+            relative_spectrum_with_progress(mesh, reference, options, Some(&mut show))
+        }
+        None => spectrum_with_progress(mesh, options, Some(&mut show)),
+    };
     drop(display);
     let elapsed = start.elapsed();
     match result {
@@ -94,11 +104,12 @@ pub fn solve_until(
 /// mislead.
 pub fn solve_converged(
     mesh: &TriMesh,
+    reference: Option<&TriMesh>,
     name: &str,
     options: &SpectrumOptions,
     quiet: bool,
 ) -> Result<Spectrum, CliError> {
-    let solved = solve(mesh, name, options, quiet)?;
+    let solved = solve(mesh, reference, name, options, quiet)?;
     solved.check_converged(name, options.k, "nothing drawn")?;
     Ok(solved.spectrum)
 }

@@ -28,6 +28,7 @@ def spectrum(
     request: _Request,
     eigenvectors: bool,
     progress: Callable[[dict[str, int]], object] | None,
+    relative_to: np.ndarray | None = None,
 ) -> dict[str, Any]: ...
 def eigenproblem(
     vertices: np.ndarray, faces: np.ndarray, request: _Request, form: str

@@ -156,6 +156,7 @@ def spectrum(
     flat_tolerance: float = DEFAULT_FLAT_TOLERANCE,
     max_restarts: int = 1000,
     progress: Callable[[dict[str, int]], object] | None = None,
+    relative_to: npt.ArrayLike | None = None,
 ) -> Spectrum:
     """The ``k`` eigenpairs of smallest ``|λ|`` of ``operator`` on the mesh ``(V, F)``.
 
@@ -187,6 +188,11 @@ def spectrum(
             wanted in the current round), for a progress bar; an exception it raises stops the
             solve and propagates. Ctrl-C stops a solve within one restart either way
             (``KeyboardInterrupt``).
+        relative_to: ``(n, 3)`` positions of a second surface with the same faces ``F``: the
+            operators built on ``D_N`` (``"relative-dirac"``, ``"squared"``, the family) use the
+            relative Dirac operator ``D_{f1,f2}`` of ``V`` and ``relative_to`` instead (paper
+            Fig. 3); ``relative_to = V`` gives the spectrum of ``"extrinsic-dirac"``.
+            ``OptionsError`` for the other operators.
 
     Raises:
         MeshError, OptionsError, KernelError, SingularError, SolverError,
@@ -208,10 +214,13 @@ def spectrum(
         threads=_threads(threads),
     )
     vertices, faces = _arrays.vertices(V), _arrays.faces(F)
+    reference = None if relative_to is None else _arrays.vertices(relative_to)
 
     @translated(make_partial=lambda raw: _spectrum(raw, operator, request.tau))
     def solve() -> dict:
-        return _native.spectrum(vertices, faces, request, bool(eigenvectors), progress)
+        return _native.spectrum(
+            vertices, faces, request, bool(eigenvectors), progress, reference
+        )
 
     return _spectrum(solve(), operator, request.tau)
 

@@ -17,6 +17,10 @@
 //! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite.
 //!
+//! The operators built on `D_N = D_{f,N}` (relative Dirac, squared, the family) can take a
+//! second surface `f2` of the same triangulation in place of the Gauss map `N`:
+//! [`relative_spectrum`] solves them with `D_{f1,f2}`.
+//!
 //! **The kernel.** A face is flat when its corner normals agree within
 //! [`SpectrumOptions::flat_tolerance`] relative to its edges; its row of `D_N` is then treated
 //! as exactly zero. A
@@ -63,7 +67,7 @@ use crate::geometry::barycentric_masses;
 use crate::operators::OperatorError;
 use crate::phase::{mass_norm, orthonormalize_and_canonicalize};
 use crate::well::{PotentialWell, WellError};
-use crate::{MeshError, TriMesh};
+use crate::{ConnectivityMismatch, MeshError, TriMesh, geometry};
 
 /// Default [`SpectrumOptions::flat_tolerance`] `10⁻⁵`: a face is flat when along each edge
 /// `|N_a − N_b| ≤ 10⁻⁵ |f_a − f_b| / L` (`L = √area`: a curvature below `10⁻⁵/L`). Exactly
@@ -294,6 +298,19 @@ impl Operator {
         }
     }
 
+    /// Whether the operator is built on `D_N = D_{f,N}`, whose Gauss map
+    /// [`relative_spectrum`] replaces by another surface: relative Dirac, squared and the
+    /// family.
+    pub fn uses_gauss_map(self) -> bool {
+        matches!(
+            self,
+            Operator::RelativeDirac
+                | Operator::Squared
+                | Operator::Family { .. }
+                | Operator::FamilyLiteral { .. }
+        )
+    }
+
     /// Whether the kernel's eigenvalue `0` is listed unless asked otherwise: yes for the
     /// operators whose kernel is at most the constants and whose zero eigenvalue is an
     /// ordinary one (Laplace, modified Dirichlet, the family for `τ < 1`), no for `D_N`, `D_f`
@@ -499,6 +516,22 @@ pub enum SpectrumError {
         /// The flat tolerance in force.
         flat_tolerance: f64,
     },
+    /// [`relative_spectrum`] was given a reference surface with another triangulation.
+    #[error(
+        "the reference surface must be the same triangulation as the mesh (same vertices in \
+         the same order, same faces): {0}"
+    )]
+    ReferenceConnectivity(#[from] ConnectivityMismatch),
+    /// [`relative_spectrum`] was asked for an operator that does not use the Gauss map, so a
+    /// reference surface has nothing to replace.
+    #[error(
+        "operator {operator} does not use the Gauss map, so a reference surface would change \
+         nothing; use relative-dirac (D_{{f1,f2}}), squared or family:T"
+    )]
+    ReferenceUnused {
+        /// The operator asked for.
+        operator: Operator,
+    },
     /// The eigensolver stopped early; `partial` holds what converged, post-processed like a
     /// full result.
     #[error("the eigensolver converged {} of {wanted} eigenvalues", partial.eigenvalues.len())]
@@ -558,7 +591,7 @@ pub fn eigenproblem(
     options: &SpectrumOptions,
 ) -> Result<Eigenproblem, SpectrumError> {
     validate_operator(options)?;
-    let Assembled { scale, mesh, spec } = assemble(mesh, options)?;
+    let Assembled { scale, mesh, spec } = assemble(mesh, None, options)?;
     Ok(Eigenproblem {
         stiffness: spec.operator.stiffness,
         coupling: spec.operator.coupling,
@@ -577,17 +610,26 @@ struct Assembled<'a> {
     spec: PencilSpec,
 }
 
-/// Normalises `mesh` and assembles the pencil of `options.operator` on it.
+/// Normalises `mesh` (and the `reference` surface by the same factor) and assembles the
+/// pencil of `options.operator` on it.
 fn assemble<'a>(
     mesh: &'a TriMesh,
+    reference: Option<&TriMesh>,
     options: &SpectrumOptions,
 ) -> Result<Assembled<'a>, SpectrumError> {
     let (scale, scaled) = normalized(mesh, options.normalization)?;
     let mesh = scaled.map_or(Cow::Borrowed(mesh), Cow::Owned);
     let potential = options.well.map(|w| w.potential(&mesh)).transpose()?;
+    let reference: Option<Vec<[f64; 3]>> = reference.map(|r| {
+        r.positions()
+            .iter()
+            .map(|&p| geometry::scale(p, scale))
+            .collect()
+    });
     let spec = PencilSpec::for_operator(
         options.operator,
         &mesh,
+        reference.as_deref(),
         potential.as_deref(),
         options.flat_tolerance,
     )?;
@@ -605,10 +647,53 @@ pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, S
 pub fn spectrum_with_progress(
     mesh: &TriMesh,
     options: &SpectrumOptions,
+    progress: Option<ProgressCallback>,
+) -> Result<Spectrum, SpectrumError> {
+    compute(mesh, None, options, progress)
+}
+
+/// The spectrum of the relative Dirac operator `D_{f1,f2}` of two immersions of one
+/// triangulation (paper §4, Fig. 3): `f1` the positions of `mesh`, `f2` those of `reference`,
+/// which must have the same faces ([`TriMesh::check_same_connectivity`]). Every operator built
+/// on `D_N = D_{f,N}` is built on `D_{f1,f2}` instead: `relative-dirac` (pencil
+/// `A x = λ G x`, `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, areas and masses of `f1`), `squared`
+/// and the family `L(τ)` (blended with the Laplacian of `f1`). The kernel is the constants of
+/// each component (no row of `D_{f1,f2}` vanishes: the faces of `f2` have positive area).
+/// With [`Normalization::UnitArea`] both surfaces are scaled by `f1`'s factor, so
+/// `reference = mesh` gives exactly the spectrum of the extrinsic Dirac operator `D_f`.
+pub fn relative_spectrum(
+    mesh: &TriMesh,
+    reference: &TriMesh,
+    options: &SpectrumOptions,
+) -> Result<Spectrum, SpectrumError> {
+    relative_spectrum_with_progress(mesh, reference, options, None)
+}
+
+/// [`relative_spectrum`] with the progress callback of [`spectrum_with_progress`].
+pub fn relative_spectrum_with_progress(
+    mesh: &TriMesh,
+    reference: &TriMesh,
+    options: &SpectrumOptions,
+    progress: Option<ProgressCallback>,
+) -> Result<Spectrum, SpectrumError> {
+    if !options.operator.uses_gauss_map() {
+        return Err(SpectrumError::ReferenceUnused {
+            operator: options.operator,
+        });
+    }
+    mesh.check_same_connectivity(reference)?;
+    compute(mesh, Some(reference), options, progress)
+}
+
+/// The spectrum of `options.operator` on `mesh`, relative to `reference` when given.
+fn compute(
+    mesh: &TriMesh,
+    reference: Option<&TriMesh>,
+    options: &SpectrumOptions,
     mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     validate(mesh, options)?;
-    let Assembled { scale, mesh, spec } = assemble(mesh, options)?;
+    let Assembled { scale, mesh, spec } = assemble(mesh, reference, options)?;
     let mesh = mesh.as_ref();
     let masses = barycentric_masses(mesh);
     let kernel = match spec.form {

@@ -61,10 +61,13 @@ pub(super) struct PencilSpec {
 
 impl PencilSpec {
     /// The pencil of `operator` on `mesh` with an optional well potential; faces whose corner
-    /// normals agree within `flat_tolerance` are flat.
+    /// normals agree within `flat_tolerance` are flat. With a `reference` surface `f2` (one
+    /// point per vertex), the operators built on `D_N = D_{f,N}` are built on `D_{f,f2}`
+    /// instead.
     pub fn for_operator(
         operator: Operator,
         mesh: &TriMesh,
+        reference: Option<&[[f64; 3]]>,
         potential: Option<&[f64]>,
         flat_tolerance: f64,
     ) -> Result<Self, SpectrumError> {
@@ -76,7 +79,9 @@ impl PencilSpec {
                 None => base,
             }))
         };
-        let dirac = |kind: DiracKind| FirstOrder::assemble(mesh, kind, potential, flat_tolerance);
+        let relative = reference.map_or(SecondImmersion::GaussMap, SecondImmersion::Surface);
+        let dirac =
+            |second: SecondImmersion| FirstOrder::assemble(mesh, second, potential, flat_tolerance);
         let spec = match operator {
             Operator::Laplace | Operator::Family { tau: 0.0 } => Self::shifted(
                 laplacian(cotan_laplacian(mesh))?,
@@ -92,14 +97,12 @@ impl PencilSpec {
                 potential,
                 mesh,
             ),
-            Operator::Squared => dirac(DiracKind::Normal)?.squared(mass, &masses, potential, mesh),
-            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
-                dirac(DiracKind::Normal)?.pinned()
-            }
-            Operator::ExtrinsicDirac => dirac(DiracKind::Extrinsic)?.pinned(),
+            Operator::Squared => dirac(relative)?.squared(mass, &masses, potential, mesh),
+            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => dirac(relative)?.pinned(),
+            Operator::ExtrinsicDirac => dirac(SecondImmersion::Positions)?.pinned(),
             Operator::Family { tau } => {
                 // `L` does not vanish on flat faces: no face is flat for the blend.
-                let first = dirac(DiracKind::Normal)?.operator;
+                let first = dirac(relative)?.operator;
                 let l = laplacian(cotan_laplacian(mesh))?;
                 let matrices = Matrices {
                     stiffness: blend(tau, &first.stiffness, &l)?,
@@ -108,7 +111,7 @@ impl PencilSpec {
                 Self::plain(matrices, Form::Pinned, mesh)
             }
             Operator::FamilyLiteral { tau } => {
-                let first = dirac(DiracKind::Normal)?.operator;
+                let first = dirac(relative)?.operator;
                 let l = laplacian(cotan_laplacian(mesh))?;
                 let stiffness = blend(tau, &first.coupling, &l)?;
                 let sigma = gershgorin_shift(&stiffness, &masses);
@@ -155,13 +158,15 @@ impl PencilSpec {
     }
 }
 
-/// Which first-order operator a Dirac pencil is built on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum DiracKind {
-    /// `D_N` (area-weighted vertex normals).
-    Normal,
-    /// `D_f`.
-    Extrinsic,
+/// The second immersion `f2` of the first-order operator `D_{f,f2}` a Dirac pencil is built on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SecondImmersion<'a> {
+    /// The Gauss map `N` (area-weighted vertex normals): `D_N`.
+    GaussMap,
+    /// The positions `f` themselves: `D_f`.
+    Positions,
+    /// Another surface with the same triangulation: `D_{f1,f2}`.
+    Surface(&'a [[f64; 3]]),
 }
 
 /// A Dirac pencil `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, as assembled and with the rows of flat
@@ -176,18 +181,21 @@ struct FirstOrder {
 impl FirstOrder {
     fn assemble(
         mesh: &TriMesh,
-        kind: DiracKind,
+        second: SecondImmersion,
         potential: Option<&[f64]>,
         flat_tolerance: f64,
     ) -> Result<Self, SpectrumError> {
-        let (d, normals) = match kind {
-            DiracKind::Normal => {
+        let (d, normals) = match second {
+            SecondImmersion::GaussMap => {
                 let normals = vertex_normals(mesh)
                     .map_err(|vertex| OperatorError::DegenerateNormal { vertex })?;
                 (relative_dirac(mesh, &normals)?, Some(normals))
             }
             // The rows of `D_f` are edge vectors over twice the area: never zero.
-            DiracKind::Extrinsic => (extrinsic_dirac(mesh)?, None),
+            SecondImmersion::Positions => (extrinsic_dirac(mesh)?, None),
+            // Nor are those of a surface's, whose faces have positive area
+            // ([`TriMesh::check_same_connectivity`] paired it with `mesh`).
+            SecondImmersion::Surface(f2) => (relative_dirac(mesh, f2)?, None),
         };
         let d = match potential {
             Some(u) => dirac_with_well(mesh, &d, u)?,

@@ -1,0 +1,48 @@
+"""``spectrum(..., relative_to=V2)``: the relative Dirac operator ``D_{f1,f2}`` of two surfaces
+with the same faces, checked against identities it must satisfy (``f2 = f1`` is the extrinsic
+Dirac operator; scaling ``f2`` by ``c`` scales every eigenvalue by ``c``; a rotated and moved
+``f2`` has the same spectrum) and its typed errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import dirac_spectra as ds
+from conftest import torus
+
+
+def rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    """The rotation matrix about ``axis`` by ``angle`` (Rodrigues)."""
+    a = axis / np.linalg.norm(axis)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+def test_relative_to_itself_is_the_extrinsic_dirac_operator():
+    V, F = torus(24, 10)
+    got = ds.spectrum(V, F, k=8, relative_to=V).eigenvalues
+    want = ds.spectrum(V, F, k=8, operator="extrinsic-dirac").eigenvalues
+    np.testing.assert_allclose(got, want, rtol=1e-9)
+
+
+def test_scaling_and_moving_the_second_surface():
+    V, F = torus(24, 10)
+    W = V * (1 + 0.2 * np.sin(3 * V[:, [0]]))
+    base = ds.spectrum(V, F, k=8, relative_to=W).eigenvalues
+    scaled = ds.spectrum(V, F, k=8, relative_to=2.5 * W).eigenvalues
+    np.testing.assert_allclose(scaled, 2.5 * base, rtol=1e-8)
+    moved = W @ rotation(np.array([1.0, 2.0, -0.5]), 0.7).T + np.array([3.0, -1.0, 2.0])
+    np.testing.assert_allclose(
+        ds.spectrum(V, F, k=8, relative_to=moved).eigenvalues, base, rtol=1e-8
+    )
+    plain = ds.spectrum(V, F, k=8).eigenvalues
+    assert abs(plain[0] - base[0]) > 1e-3 * abs(base[0])
+
+
+def test_errors_are_typed():
+    V, F = torus(24, 10)
+    with pytest.raises(ds.OptionsError, match="Gauss map"):
+        ds.spectrum(V, F, k=4, operator="laplace", relative_to=V)
+    with pytest.raises(ds.MeshError):
+        ds.spectrum(V, F, k=4, relative_to=V[:-1])
