@@ -20,8 +20,10 @@
 //!   (mean `λ²` of the first 25 eigenvalues of `D_N`), thresholds learnt leave-one-out, and
 //!   nearest neighbours on `log |λ|` (§6.1, Fig. 9);
 //! * [`spectra`]: the spectra of many meshes under several operators, timed; [`metrics`]:
-//!   nearest-neighbour accuracy, separation ratio and k-means purity; [`embedding`]: classical
-//!   MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
+//!   nearest-neighbour accuracy, separation ratio and k-means purity; [`spectral_features`]:
+//!   what a spectrum becomes before the distance (count, transform, normalisation);
+//!   [`patches_study`]: which factor limits the patch purity; [`embedding`]: t-SNE and
+//!   classical MDS for the 2-D plots; [`correspondence`]: nearest-descriptor matching and its geodesic
 //!   error; [`threshold`]: one-number classifiers with a threshold learnt leave-one-out;
 //!   [`report`]: the score table; [`plots`]: the charts; [`args`]: the examples' command line.
 
@@ -33,10 +35,12 @@ pub mod flat_vs_curved;
 pub mod man_made;
 pub mod metrics;
 pub mod patches;
+pub mod patches_study;
 pub mod plots;
 pub mod report;
 pub mod segmentation;
 pub mod spectra;
+pub mod spectral_features;
 pub mod threshold;
 pub mod tori;
 pub mod two_surfaces;
@@ -75,6 +79,9 @@ pub enum ExperimentError {
     /// A dense eigensolver failed.
     #[error("dense eigensolver: {0}")]
     Eigen(String),
+    /// A 2-D embedding could not be computed.
+    #[error("embedding: {0}")]
+    Embedding(String),
     /// A distance matrix is not square.
     #[error("the distance matrix is not square")]
     NotSquare,
@@ -120,6 +127,48 @@ pub enum ExperimentError {
     /// An output file or directory could not be written.
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    /// A spectrum has fewer eigenvalues than a feature vector needs.
+    #[error(
+        "shape {shape} has {available} eigenvalues but the features need {wanted}: compute more"
+    )]
+    TooFewEigenvalues {
+        /// Index of the shape in its experiment.
+        shape: usize,
+        /// Eigenvalues computed.
+        available: usize,
+        /// Eigenvalues wanted.
+        wanted: usize,
+    },
+    /// `log|λ|` of a zero eigenvalue.
+    #[error(
+        "eigenvalue {index} of shape {shape} is 0, so log|λ| is undefined: use another transform"
+    )]
+    ZeroEigenvalue {
+        /// Index of the shape.
+        shape: usize,
+        /// Index of the eigenvalue.
+        index: usize,
+    },
+    /// Normalising by the first nonzero eigenvalue of a spectrum that has none.
+    #[error(
+        "every eigenvalue of shape {shape} is 0: it cannot be divided by its first nonzero one"
+    )]
+    NoNonzeroEigenvalue {
+        /// Index of the shape.
+        shape: usize,
+    },
+    /// A t-SNE perplexity that the number of points cannot support.
+    #[error(
+        "t-SNE perplexity {perplexity} needs at least 3·perplexity + 1 = {needed} points, got {points}: lower it"
+    )]
+    Perplexity {
+        /// The perplexity asked for.
+        perplexity: f64,
+        /// Points needed.
+        needed: usize,
+        /// Points given.
+        points: usize,
+    },
     /// The command line was not understood.
     #[error("{0}")]
     Usage(String),

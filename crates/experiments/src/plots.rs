@@ -12,7 +12,7 @@ use dirac_cli::plot::{
 use dirac_cli::render::format_value;
 
 use crate::ExperimentError;
-use crate::embedding::classical_mds;
+use crate::embedding::{TsneOptions, tsne};
 use crate::metrics::distance_matrix;
 use crate::spectra::OperatorSpectra;
 
@@ -65,8 +65,9 @@ pub fn write_spectra_plots(
     })
 }
 
-/// Writes, for every operator, `embedding-<operator>.png` (classical MDS of the Euclidean
-/// distances between spectra, one colour per class) into `dir`; returns the files written.
+/// Writes, for every operator, `embedding-<operator>.png` (t-SNE of the Euclidean distances
+/// between spectra with [`TsneOptions::for_points`], one colour per class, as in paper Fig. 10)
+/// into `dir`; returns the files written.
 pub fn write_embedding_plots(
     tables: &[OperatorSpectra],
     labels: &[usize],
@@ -74,7 +75,10 @@ pub fn write_embedding_plots(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, ExperimentError> {
     for_each_operator(tables, dir, "embedding", |table, path| {
-        let embedded = classical_mds(&distance_matrix(&table.spectra))?;
+        let embedded = tsne(
+            &distance_matrix(&table.spectra),
+            &TsneOptions::for_points(table.spectra.len()),
+        )?;
         let groups: Vec<PointGroup> = names
             .iter()
             .enumerate()
@@ -90,7 +94,7 @@ pub fn write_embedding_plots(
             .collect();
         plot_points(
             &groups,
-            &format!("{}: MDS of spectral distances", table.operator),
+            &format!("{}: t-SNE of spectral distances", table.operator),
             path,
         )?;
         Ok(())
