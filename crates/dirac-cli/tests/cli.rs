@@ -157,6 +157,47 @@ fn family_reports_tau_and_human_output_has_a_table() {
 }
 
 #[test]
+fn anisotropic_laplace_reports_its_anisotropy_and_scales_laplace_on_a_sphere() {
+    let path = write_off(&icosphere(2), temporary("icosphere2_anisotropic.off"));
+    let path = text(&path);
+    let run = |operator: &str| {
+        json(&dirac(&[
+            "spectrum",
+            path,
+            "--operator",
+            operator,
+            "-k",
+            "4",
+            "--json",
+        ]))
+    };
+    let report = run("anisotropic-laplace:1");
+    assert_eq!(report["operator"], "anisotropic-laplace");
+    assert_eq!(report["anisotropy"], 1.0);
+    assert_eq!(report["tau"], Value::Null);
+    assert_eq!(report["kernel_dimension"], 1);
+    // Unit sphere: both curvatures 1, conductivity 1/(1 + 1·1) = 1/2 in every direction.
+    let anisotropic = numbers(&report["eigenvalues"]);
+    let laplace = numbers(&run("laplace")["eigenvalues"]);
+    assert!(anisotropic[0].abs() < 1e-8, "{anisotropic:?}");
+    for (a, l) in anisotropic.iter().zip(&laplace).skip(1) {
+        assert!(
+            (a - 0.5 * l).abs() < 0.02 * l,
+            "{anisotropic:?} vs ½ {laplace:?}"
+        );
+    }
+    let output = dirac(&[
+        "spectrum",
+        path,
+        "--operator",
+        "anisotropic-laplace:1",
+        "-k",
+        "2",
+    ]);
+    assert!(String::from_utf8_lossy(&output.stdout).contains("(anisotropy = 1)"));
+}
+
+#[test]
 fn missing_file_exits_1_naming_it() {
     let output = dirac(&["spectrum", "/nonexistent/cow.obj", "--quiet"]);
     assert_eq!(output.status.code(), Some(1));
@@ -186,7 +227,12 @@ fn badly_written_operators_and_the_former_tau_are_usage_errors() {
             (&["--operator", "family-literal"], "family-literal:T"),
             (&["--operator", "family:2"], "outside [0, 1]"),
             (&["--operator", "family:x"], "finite number"),
-            (&["--operator", "laplace:0.5"], "takes no weight"),
+            (&["--operator", "laplace:0.5"], "takes no parameter"),
+            (
+                &["--operator", "anisotropic-laplace"],
+                "anisotropic-laplace:A",
+            ),
+            (&["--operator", "anisotropic-laplace:-1"], "outside [0, ∞)"),
             (&["--operator", "dirac"], "relative-dirac"),
             // The old spelling: --operator is read first and says how to write the weight.
             (&["--operator", "family", "--tau", "0.5"], "family:0.5"),

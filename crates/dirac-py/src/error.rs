@@ -183,7 +183,7 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
             return with_elements(py, Kind::Singular, error, None, *vertex);
         }
         SpectrumError::InvalidCount { .. }
-        | SpectrumError::InvalidTau(_)
+        | SpectrumError::InvalidParameter { .. }
         | SpectrumError::InvalidFlatTolerance(_)
         | SpectrumError::InvalidTolerance(_)
         | SpectrumError::InvalidMaxRestarts

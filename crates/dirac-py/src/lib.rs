@@ -20,7 +20,10 @@ use dirac::spectrum::{
     DEFAULT_FLAT_TOLERANCE, relative_spectrum_with_progress, spectrum_with_progress,
 };
 use dirac::well::PotentialWell;
-use dirac::{Normalization, Operator, SolverBackend, SpectrumError, SpectrumOptions};
+use dirac::{
+    Normalization, Operator, OperatorNameError, Parameter, SolverBackend, SpectrumError,
+    SpectrumOptions,
+};
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -117,6 +120,8 @@ struct Request {
     #[pyo3(attribute)]
     tau: Option<f64>,
     #[pyo3(attribute)]
+    anisotropy: Option<f64>,
+    #[pyo3(attribute)]
     k: usize,
     #[pyo3(attribute)]
     normalize: Option<String>,
@@ -164,10 +169,57 @@ impl WellRequest {
 }
 
 impl Request {
+    /// The operator named `operator`, its parameter taken from the keyword that belongs to it
+    /// (`tau` for the family, `anisotropy` for the anisotropic Laplacian); a keyword given to
+    /// an operator it does not belong to is an error, in the keywords' terms.
+    fn operator(&self, py: Python<'_>) -> PyResult<Operator> {
+        let given = [
+            (Parameter::Weight, self.tau),
+            (Parameter::Anisotropy, self.anisotropy),
+        ];
+        let (name, wanted) = match Operator::from_name(&self.operator, None) {
+            Ok(operator) => (operator.name(), None),
+            Err(OperatorNameError::MissingParameter { name, parameter }) => (name, Some(parameter)),
+            Err(error) => return Err(operator_name_error(py, &error)),
+        };
+        if let Some((stray, _)) = given
+            .iter()
+            .find(|(parameter, value)| value.is_some() && Some(*parameter) != wanted)
+        {
+            return Err(plain(
+                py,
+                Kind::Options,
+                format!("operator {name:?} takes no {}", stray.keyword()),
+            ));
+        }
+        let value = match wanted {
+            None => None,
+            Some(parameter) => {
+                let value = given
+                    .iter()
+                    .find(|(p, _)| *p == parameter)
+                    .and_then(|(_, v)| *v);
+                if value.is_none() {
+                    return Err(plain(
+                        py,
+                        Kind::Options,
+                        format!(
+                            "operator {name:?} needs {} ({}, in {})",
+                            parameter.keyword(),
+                            parameter.description(),
+                            parameter.range()
+                        ),
+                    ));
+                }
+                value
+            }
+        };
+        Operator::from_name(name, value).map_err(|e| operator_name_error(py, &e))
+    }
+
     /// The library's options.
     fn options(&self, py: Python<'_>) -> PyResult<SpectrumOptions> {
-        let operator = Operator::from_name(&self.operator, self.tau)
-            .map_err(|e| operator_name_error(py, &e))?;
+        let operator = self.operator(py)?;
         let mut options = SpectrumOptions::new(operator, self.k);
         options.normalization = match self.normalize.as_deref() {
             None | Some("none") => Normalization::None,

@@ -141,3 +141,24 @@ def test_the_complex_form_is_the_complex_adjoint_of_the_real_form(bumpy_sphere):
     complex_ = scipy.sparse.linalg.eigsh(P_complex, k=8, sigma=-1e-3, v0=v0)
     real, complex_ = np.sort(real[0]), np.sort(complex_[0])
     np.testing.assert_allclose(real[::2], complex_, rtol=1e-8, atol=1e-10 * abs(real).max())
+
+
+def test_anisotropic_laplace_eigenvalues_equal_eigsh_and_its_isotropic_end_is_the_laplacian(
+    small_torus,
+):
+    V, F = small_torus
+    # No anisotropy: the real block of the stiffness is L ⊗ I₄ with the L assembled here.
+    P, Q, mass = ds.operator_matrices(V, F, operator="anisotropic-laplace", anisotropy=0.0)
+    L, expected_mass = cotangent_laplacian(V, F)
+    np.testing.assert_allclose(mass, expected_mass, rtol=1e-12)
+    assert abs(P[::4, ::4] - L).max() < 1e-12 * abs(L).max()
+    # α = 2: the k smallest of the real pencil K x = λ M x by ARPACK (shift-invert at a
+    # negative shift: K is only semidefinite), each real eigenvalue four times.
+    P, Q, _ = ds.operator_matrices(V, F, operator="anisotropic-laplace", anisotropy=2.0)
+    K, M = P[::4, ::4].tocsc(), Q[::4, ::4].tocsc()
+    assert abs(K - K.T).max() == 0.0
+    v0 = np.random.default_rng(0).normal(size=K.shape[0])
+    expected = np.sort(scipy.sparse.linalg.eigsh(K, k=8, M=M, sigma=-1e-3, v0=v0, tol=1e-13)[0])
+    result = ds.spectrum(V, F, k=8, operator="anisotropic-laplace", anisotropy=2.0)
+    assert result.anisotropy == 2.0 and result.kernel_dimension == 1
+    np.testing.assert_allclose(np.sort(result.eigenvalues), expected, rtol=1e-8, atol=1e-10)

@@ -59,6 +59,21 @@ pub fn corner_cotangent(apex: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     dot(e1, e2) / norm(cross(e1, e2))
 }
 
+/// The gradients `∇φ_c = n_t × e_c / (2A_t)` of the three linear hat functions of face
+/// `t = ijk` (corner order `i, j, k`), with `n_t` the unit normal and `e_c` the edge opposite
+/// corner `c`, counter-clockwise (`e_i = f_k − f_j`, …). Tangent to the face, pointing from
+/// the opposite edge towards the corner, of length `1/height`; they sum to zero.
+pub fn hat_gradients(mesh: &TriMesh, t: usize) -> [[f64; 3]; 3] {
+    let p = mesh.positions();
+    let [i, j, k] = mesh.faces()[t];
+    let area_normal = cross(sub(p[j], p[i]), sub(p[k], p[i]));
+    let double_area = norm(area_normal);
+    // `n × e / (2A) = (2A n) × e / (2A)²`: one division, no normalisation.
+    let factor = 1.0 / (double_area * double_area);
+    [sub(p[k], p[j]), sub(p[i], p[k]), sub(p[j], p[i])]
+        .map(|edge| scale(cross(area_normal, edge), factor))
+}
+
 /// Face areas `A_t`.
 pub fn face_areas(mesh: &TriMesh) -> Vec<f64> {
     (0..mesh.face_count()).map(|t| mesh.face_area(t)).collect()

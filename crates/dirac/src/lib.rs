@@ -3,7 +3,8 @@
 //! Triangle meshes and the operators of "A Dirac Operator for Extrinsic Shape Analysis"
 //! (Liu, Jacobson, Crane, SGP 2017), and their spectra: the relative Dirac operator `D_N`, the
 //! extrinsic Dirac operator `D_f`, the cotangent Laplacian, the family `L(τ)` between them, the
-//! squared operator, the modified Dirichlet energy and the infinite potential well, solved over
+//! squared operator, the modified Dirichlet energy, the anisotropic Laplacian of Andreux et al.
+//! and the infinite potential well, solved over
 //! the quaternions by `qeig`; canonical eigenvectors and the descriptors built on them.
 //!
 //! One call gives a spectrum:
@@ -23,7 +24,7 @@
 //! |---|---|
 //! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
 //! | [`repair`](mod@repair) | meshes as downloaded made valid: merged vertices, degenerate faces dropped, non-manifold elements split, faces oriented, with a report |
-//! | [`geometry`], [`curvature`], [`operators`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature |
+//! | [`geometry`], [`curvature`], [`operators`], [`anisotropic`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature, the anisotropic Laplacian |
 //! | [`spectrum`](mod@spectrum) | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
@@ -34,6 +35,7 @@
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
 
+pub mod anisotropic;
 pub mod clustering;
 pub mod curvature;
 pub mod descriptors;
@@ -53,8 +55,9 @@ pub mod well;
 pub use io::default_mesh;
 pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
-    Eigenproblem, Normalization, Operator, OperatorNameError, ParseOperatorError, SolverBackend,
-    Spectrum, SpectrumError, SpectrumOptions, eigenproblem, relative_spectrum, spectrum,
+    Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
+    SolverBackend, Spectrum, SpectrumError, SpectrumOptions, eigenproblem, relative_spectrum,
+    spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,

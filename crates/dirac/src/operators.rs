@@ -31,6 +31,14 @@ pub enum OperatorError {
         /// Number of values given.
         found: usize,
     },
+    /// Per-face values of the wrong length.
+    #[error("expected {expected} per-face values, found {found}")]
+    FaceValueCount {
+        /// Number of faces.
+        expected: usize,
+        /// Number of values given.
+        found: usize,
+    },
     /// A per-vertex value is NaN or infinite.
     #[error("the value at vertex {vertex} is not finite")]
     NonFiniteValue {

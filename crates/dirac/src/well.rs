@@ -8,7 +8,7 @@ use thiserror::Error;
 
 use crate::TriMesh;
 use crate::geometry::{
-    barycentric_masses, corner_cotangent, cotan_laplacian, cross, dot, norm, scale, sub,
+    barycentric_masses, corner_cotangent, cotan_laplacian, dot, hat_gradients, norm, scale, sub,
 };
 
 /// Why a distance or potential could not be computed.
@@ -85,18 +85,11 @@ pub fn geodesic_distance(mesh: &TriMesh, sources: &[usize]) -> Result<Vec<f64>, 
     SparseCholesky::factorize(&heat_operator)?.solve_in_place(&mut u)?;
 
     let mut divergence = vec![0.0; n];
-    for &face in mesh.faces() {
-        let [i, j, k] = face;
-        let area_normal = cross(sub(p[j], p[i]), sub(p[k], p[i]));
-        let double_area = norm(area_normal);
-        let unit_normal = scale(area_normal, 1.0 / double_area);
-        // Edge opposite each corner, counter-clockwise.
-        let opposite = [sub(p[k], p[j]), sub(p[i], p[k]), sub(p[j], p[i])];
+    for (t, &face) in mesh.faces().iter().enumerate() {
         let mut gradient = [0.0; 3];
-        for (corner, &v) in face.iter().enumerate() {
-            let g = cross(unit_normal, opposite[corner]);
+        for (&v, g) in face.iter().zip(hat_gradients(mesh, t)) {
             for c in 0..3 {
-                gradient[c] += u[v] * g[c] / double_area;
+                gradient[c] += u[v] * g[c];
             }
         }
         let length = norm(gradient);

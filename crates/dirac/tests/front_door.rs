@@ -6,8 +6,8 @@ use std::ops::ControlFlow;
 
 use dirac::spectrum::spectrum_with_progress;
 use dirac::{
-    Normalization, Operator, OperatorNameError, ParseOperatorError, SpectrumError, SpectrumOptions,
-    eigenproblem, spectrum,
+    Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError, SpectrumError,
+    SpectrumOptions, eigenproblem, spectrum,
 };
 use qscalar::Quat;
 
@@ -21,22 +21,35 @@ fn every_operator_round_trips_through_its_name() {
         Operator::FamilyLiteral { tau: 0.75 },
         Operator::Squared,
         Operator::ModifiedDirichlet,
+        Operator::AnisotropicLaplace { anisotropy: 4.0 },
     ];
     assert_eq!(Operator::names().len(), operators.len());
     for operator in operators {
-        let tau = match operator {
+        let value = match operator {
             Operator::Family { tau } | Operator::FamilyLiteral { tau } => Some(tau),
+            Operator::AnisotropicLaplace { anisotropy } => Some(anisotropy),
             _ => None,
         };
-        assert_eq!(Operator::from_name(operator.name(), tau), Ok(operator));
+        assert_eq!(operator.parameter().map(|(_, v)| v), value);
+        assert_eq!(Operator::from_name(operator.name(), value), Ok(operator));
     }
     assert_eq!(
         Operator::from_name("family", None),
-        Err(OperatorNameError::MissingTau { name: "family" })
+        Err(OperatorNameError::MissingParameter {
+            name: "family",
+            parameter: Parameter::Weight
+        })
+    );
+    assert_eq!(
+        Operator::from_name("anisotropic-laplace", None),
+        Err(OperatorNameError::MissingParameter {
+            name: "anisotropic-laplace",
+            parameter: Parameter::Anisotropy
+        })
     );
     assert_eq!(
         Operator::from_name("laplace", Some(0.5)),
-        Err(OperatorNameError::UnexpectedTau { name: "laplace" })
+        Err(OperatorNameError::UnexpectedParameter { name: "laplace" })
     );
     let unknown = Operator::from_name("dirac", None).unwrap_err();
     assert!(unknown.to_string().contains("relative-dirac"), "{unknown}");
@@ -47,10 +60,17 @@ fn every_operator_round_trips_through_its_written_form() {
     // Weights whose shortest decimal is not their binary value must read back exactly too.
     let family = [0.0, 0.1, 0.5, 1.0 / 3.0, 1.0].map(|tau| Operator::Family { tau });
     let literal = [0.25, 0.7].map(|tau| Operator::FamilyLiteral { tau });
+    let anisotropic =
+        [0.0, 0.1, 10.0, 1e6].map(|anisotropy| Operator::AnisotropicLaplace { anisotropy });
     let others = Operator::names()
         .into_iter()
         .filter_map(|name| Operator::from_name(name, None).ok());
-    for operator in family.into_iter().chain(literal).chain(others) {
+    for operator in family
+        .into_iter()
+        .chain(literal)
+        .chain(anisotropic)
+        .chain(others)
+    {
         let written = operator.to_string();
         assert_eq!(written.parse::<Operator>(), Ok(operator), "{written}");
     }
@@ -62,6 +82,7 @@ fn every_operator_round_trips_through_its_written_form() {
     assert_eq!(Operator::Family { tau: 0.1 }.to_string(), "family:0.1");
     assert_eq!(Operator::RelativeDirac.to_string(), "relative-dirac");
     assert_eq!(Operator::forms().len(), Operator::names().len());
+    assert!(Operator::forms().contains(&"anisotropic-laplace:A".to_string()));
 }
 
 #[test]
@@ -69,32 +90,57 @@ fn badly_written_operators_say_what_is_wrong() {
     let parse = |text: &str| text.parse::<Operator>().unwrap_err();
     assert_eq!(
         parse("family"),
-        ParseOperatorError::MissingTau { name: "family" }
+        ParseOperatorError::MissingParameter {
+            name: "family",
+            parameter: Parameter::Weight
+        }
     );
     assert_eq!(
         parse("family:x"),
-        ParseOperatorError::InvalidTau {
+        ParseOperatorError::InvalidParameter {
             name: "family",
+            parameter: Parameter::Weight,
             text: "x".to_string()
         }
     );
     assert_eq!(
         parse("family-literal:inf"),
-        ParseOperatorError::InvalidTau {
+        ParseOperatorError::InvalidParameter {
             name: "family-literal",
+            parameter: Parameter::Weight,
             text: "inf".to_string()
         }
     );
     assert_eq!(
         parse("family:2"),
-        ParseOperatorError::TauOutOfRange {
+        ParseOperatorError::ParameterOutOfRange {
             name: "family",
-            tau: 2.0
+            parameter: Parameter::Weight,
+            value: 2.0
+        }
+    );
+    assert_eq!(
+        parse("anisotropic-laplace:x"),
+        ParseOperatorError::InvalidParameter {
+            name: "anisotropic-laplace",
+            parameter: Parameter::Anisotropy,
+            text: "x".to_string()
         }
     );
     assert_eq!(
         parse("laplace:0.5"),
-        ParseOperatorError::UnexpectedTau { name: "laplace" }
+        ParseOperatorError::UnexpectedParameter { name: "laplace" }
+    );
+    assert_eq!(
+        parse("family").to_string(),
+        "operator family needs the weight τ of D_N: family:T with T in [0, 1], e.g. family:0.5"
+    );
+    assert!(
+        parse("laplace:0.5")
+            .to_string()
+            .contains("family:T, family-literal:T, anisotropic-laplace:A"),
+        "{}",
+        parse("laplace:0.5")
     );
     assert_eq!(
         parse("dirac"),

@@ -16,14 +16,16 @@ use qscalar::{Quat, Scalar};
 
 const K: usize = 8;
 
-/// Every operator of [`Operator`], with `τ = 0.5` for the two families.
-const OPERATORS: [Operator; 6] = [
+/// Every operator of [`Operator`], with `τ = 0.5` for the two families and `α = 0.7` for the
+/// anisotropic Laplacian.
+const OPERATORS: [Operator; 7] = [
     Operator::Laplace,
     Operator::RelativeDirac,
     Operator::ExtrinsicDirac,
     Operator::Family { tau: 0.5 },
     Operator::FamilyLiteral { tau: 0.5 },
     Operator::Squared,
+    Operator::AnisotropicLaplace { anisotropy: 0.7 },
 ];
 
 /// A fixed perturbed level-1 icosphere, for the deterministic tests.

@@ -2,7 +2,9 @@
 //! bad value, never a panic.
 
 use dirac::generators::icosphere;
-use dirac::spectrum::{Normalization, Operator, SpectrumError, SpectrumOptions, spectrum};
+use dirac::spectrum::{
+    Normalization, Operator, Parameter, SpectrumError, SpectrumOptions, spectrum,
+};
 use dirac::well::{PotentialWell, WellError};
 use dirac::{MeshError, TriMesh};
 
@@ -25,7 +27,11 @@ fn tau_outside_the_unit_interval_is_rejected() {
         for operator in [Operator::Family { tau }, Operator::FamilyLiteral { tau }] {
             let result = spectrum(&mesh, &SpectrumOptions::new(operator, 2));
             assert!(
-                matches!(result, Err(SpectrumError::InvalidTau(t)) if t.to_bits() == tau.to_bits()),
+                matches!(
+                    result,
+                    Err(SpectrumError::InvalidParameter { parameter: Parameter::Weight, value, .. })
+                        if value.to_bits() == tau.to_bits()
+                ),
                 "{operator:?}"
             );
         }

@@ -14,7 +14,8 @@ use experiments::args::{ExampleArgs, run_example};
 use experiments::patches::{PatchConfig, patch_classes, patches, well};
 use experiments::report::report_classification;
 use experiments::spectra::{
-    DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, RELATIVE_DIRAC, compute_spectra,
+    ANISOTROPIC_LAPLACE, DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, RELATIVE_DIRAC,
+    compute_spectra,
 };
 
 /// k-means random starts (the paper's 500).
@@ -45,7 +46,14 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
     );
     let labels: Vec<usize> = patches.iter().map(|p| p.class).collect();
     let meshes: Vec<_> = patches.iter().map(|p| p.mesh.clone()).collect();
-    let operators = [RELATIVE_DIRAC, DIRAC, LAPLACE, MODIFIED_DIRICHLET, HALF_WAY];
+    let operators = [
+        RELATIVE_DIRAC,
+        DIRAC,
+        LAPLACE,
+        MODIFIED_DIRICHLET,
+        HALF_WAY,
+        ANISOTROPIC_LAPLACE,
+    ];
     let tables = compute_spectra(
         &meshes,
         &operators,

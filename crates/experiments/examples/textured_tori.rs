@@ -1,6 +1,7 @@
 //! Experiment 1, paper Fig. 8: textured tori. One base torus with bumps, ridges and noise at
 //! two amplitudes, several random tessellations each; the first 60 eigenvalues of Laplace,
-//! `L(0.5)`, relative Dirac, Dirac and the modified Dirichlet Hessian at unit area; how well
+//! `L(0.5)`, relative Dirac, Dirac, the modified Dirichlet Hessian and the anisotropic
+//! Laplacian (`α = 10`) at unit area; how well
 //! each operator's spectra separate the textures. See docs/EXPERIMENTS.md.
 //!
 //! `cargo run --release -p experiments --example textured_tori -- [--full] [--backend B] [--out DIR]`
@@ -13,7 +14,8 @@ use experiments::ExperimentError;
 use experiments::args::{ExampleArgs, run_example};
 use experiments::report::report_classification;
 use experiments::spectra::{
-    DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, RELATIVE_DIRAC, compute_spectra,
+    ANISOTROPIC_LAPLACE, DIRAC, HALF_WAY, LAPLACE, MODIFIED_DIRICHLET, RELATIVE_DIRAC,
+    compute_spectra,
 };
 use experiments::tori::{ToriConfig, meshes, texture_classes};
 
@@ -42,7 +44,14 @@ fn run(args: &ExampleArgs) -> Result<(), ExperimentError> {
     );
     let labels: Vec<usize> = meshes.iter().map(|m| m.class).collect();
     let surfaces: Vec<_> = meshes.into_iter().map(|m| m.mesh).collect();
-    let operators = [LAPLACE, HALF_WAY, RELATIVE_DIRAC, DIRAC, MODIFIED_DIRICHLET];
+    let operators = [
+        LAPLACE,
+        HALF_WAY,
+        RELATIVE_DIRAC,
+        DIRAC,
+        MODIFIED_DIRICHLET,
+        ANISOTROPIC_LAPLACE,
+    ];
     let tables = compute_spectra(
         &surfaces,
         &operators,

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use dirac::TriMesh;
 use dirac::spectrum::{
-    Normalization, Operator, SolverBackend, Spectrum, SpectrumOptions, spectrum,
+    DEFAULT_ANISOTROPY, Normalization, Operator, SolverBackend, Spectrum, SpectrumOptions, spectrum,
 };
 use dirac::well::PotentialWell;
 
@@ -24,6 +24,10 @@ pub const RELATIVE_DIRAC: Operator = Operator::RelativeDirac;
 pub const DIRAC: Operator = Operator::ExtrinsicDirac;
 /// The modified Dirichlet energy Hessian `Δ + κ₁² + κ₂²`.
 pub const MODIFIED_DIRICHLET: Operator = Operator::ModifiedDirichlet;
+/// The anisotropic Laplacian of Andreux et al. at [`DEFAULT_ANISOTROPY`] (`α = 10`).
+pub const ANISOTROPIC_LAPLACE: Operator = Operator::AnisotropicLaplace {
+    anisotropy: DEFAULT_ANISOTROPY,
+};
 
 /// Relative residual tolerance of every eigensolve (eigenvalues to about 8 digits, far below
 /// the differences the experiments measure).

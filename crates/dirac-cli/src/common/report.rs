@@ -35,7 +35,7 @@ pub struct Report {
     /// Boundary loops, components and genus (human output only).
     #[serde(skip)]
     pub topology: Topology,
-    /// The operator and solver options (the keys `operator`, `tau`, `k`, `backend`,
+    /// The operator and solver options (the keys `operator`, `tau`, `anisotropy`, `k`, `backend`,
     /// `normalize`, `well`, `include_kernel`, `flat_tolerance`, `tolerance`, `seed`,
     /// `max_restarts`, `repair`, `component`, and `relative_to` when given).
     #[serde(flatten)]
@@ -84,6 +84,8 @@ pub struct RunSettings {
     pub operator: String,
     /// `τ` of the family, `null` for the other operators.
     pub tau: Option<f64>,
+    /// `α` of the anisotropic Laplacian, `null` for the other operators.
+    pub anisotropy: Option<f64>,
     /// Number of eigenvalues asked for.
     pub k: usize,
     /// The `--backend` value.
@@ -118,6 +120,7 @@ impl RunSettings {
         Self {
             operator: solve.operator.name().to_string(),
             tau: solve.operator.tau(),
+            anisotropy: solve.operator.anisotropy(),
             k: solve.k,
             backend: value_name(&solve.backend),
             normalize: value_name(&solve.normalize),
@@ -262,10 +265,11 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         t.genus()
     )?;
     let settings = &report.settings;
-    let tau = settings
-        .tau
-        .map(|t| format!(" (tau = {t})"))
-        .unwrap_or_default();
+    let tau = match (settings.tau, settings.anisotropy) {
+        (Some(t), _) => format!(" (tau = {t})"),
+        (_, Some(a)) => format!(" (anisotropy = {a})"),
+        (None, None) => String::new(),
+    };
     writeln!(
         out,
         "operator    {}{tau}, k = {}, backend {}, normalize {}",

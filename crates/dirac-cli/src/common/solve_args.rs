@@ -13,7 +13,9 @@ use crate::common::preparation::MeshPreparation;
 /// The help of `--operator`: the forms it accepts.
 fn operator_help() -> String {
     format!(
-        "The operator: {} (T ∈ [0, 1] is the weight of D_N in the family L(T))",
+        "The operator: {} (T ∈ [0, 1] is the weight of D_N in the family L(T); A ≥ 0 the \
+         anisotropy of the anisotropic Laplacian, conductivity 1/(1 + A|κ|) along each \
+         principal direction)",
         Operator::forms().join(", ")
     )
 }

@@ -52,7 +52,8 @@ class Spectrum:
         mass: ``(n,)`` barycentric vertex areas of the mesh as solved (after normalisation).
         scale: factor applied to the positions (1 without normalisation).
         statistics: eigensolver counts and times in seconds.
-        operator: the operator's name; ``tau`` its weight (family only).
+        operator: the operator's name; ``tau`` its weight (family only); ``anisotropy`` its
+            ``α`` (anisotropic Laplacian only).
     """
 
     eigenvalues: np.ndarray
@@ -67,6 +68,7 @@ class Spectrum:
     statistics: dict[str, float] = field(default_factory=dict)
     operator: str = "relative-dirac"
     tau: float | None = None
+    anisotropy: float | None = None
 
     @property
     def k(self) -> int:
@@ -85,6 +87,7 @@ class _Request:
 
     operator: str
     tau: float | None
+    anisotropy: float | None
     k: int
     normalize: str | None
     well: PotentialWell | None
@@ -121,7 +124,7 @@ def _count(value: Any, name: str) -> int:
     return int(value)
 
 
-def _spectrum(raw: dict, operator: str, tau: float | None) -> Spectrum:
+def _spectrum(raw: dict, request: _Request) -> Spectrum:
     return Spectrum(
         eigenvalues=raw["eigenvalues"],
         eigenvectors=raw["eigenvectors"],
@@ -133,8 +136,9 @@ def _spectrum(raw: dict, operator: str, tau: float | None) -> Spectrum:
         mass=raw["mass"],
         scale=raw["scale"],
         statistics=raw["statistics"],
-        operator=operator,
-        tau=tau,
+        operator=request.operator,
+        tau=request.tau,
+        anisotropy=request.anisotropy,
     )
 
 
@@ -153,6 +157,7 @@ def spectrum(
     eigenvectors: bool = True,
     threads: int | None = None,
     *,
+    anisotropy: float | None = None,
     flat_tolerance: float = DEFAULT_FLAT_TOLERANCE,
     max_restarts: int = 1000,
     progress: Callable[[dict[str, int]], object] | None = None,
@@ -166,8 +171,11 @@ def spectrum(
         k: number of eigenpairs.
         operator: one of :data:`OPERATORS`: ``"relative-dirac"`` (``D_N``), ``"extrinsic-dirac"``
             (``D_f``), ``"laplace"``, ``"family"`` (``L(τ)``, needs ``tau``), ``"family-literal"``,
-            ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``.
+            ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``, ``"anisotropic-laplace"``
+            (Andreux et al. 2014, needs ``anisotropy``).
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
+        anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
+            each principal curvature direction (0: Laplace).
         normalize: ``"unit-area"`` scales the mesh to total area 1 first.
         well: a :class:`PotentialWell` (or its radius) restricting the operator to a region.
         backend: the eigensolver's arithmetic: native quaternions, or the ``4n × 4n`` real block
@@ -202,6 +210,7 @@ def spectrum(
     request = _Request(
         operator=operator,
         tau=None if tau is None else float(tau),
+        anisotropy=None if anisotropy is None else float(anisotropy),
         k=_count(k, "k"),
         normalize=normalize,
         well=_well(well),
@@ -216,13 +225,13 @@ def spectrum(
     vertices, faces = _arrays.vertices(V), _arrays.faces(F)
     reference = None if relative_to is None else _arrays.vertices(relative_to)
 
-    @translated(make_partial=lambda raw: _spectrum(raw, operator, request.tau))
+    @translated(make_partial=lambda raw: _spectrum(raw, request))
     def solve() -> dict:
         return _native.spectrum(
             vertices, faces, request, bool(eigenvectors), progress, reference
         )
 
-    return _spectrum(solve(), operator, request.tau)
+    return _spectrum(solve(), request)
 
 
 class OperatorMatrices(NamedTuple):
@@ -257,6 +266,7 @@ def operator_matrices(
     normalize: Literal["unit-area", "none"] | None = None,
     well: PotentialWell | float | None = None,
     *,
+    anisotropy: float | None = None,
     flat_tolerance: float = DEFAULT_FLAT_TOLERANCE,
 ) -> OperatorMatrices:
     """The matrices ``P``, ``Q`` of the eigenproblem ``P x = λ Q x`` that :func:`spectrum` solves
@@ -266,6 +276,7 @@ def operator_matrices(
     request = _Request(
         operator=operator,
         tau=None if tau is None else float(tau),
+        anisotropy=None if anisotropy is None else float(anisotropy),
         k=1,
         normalize=normalize,
         well=_well(well),

@@ -19,8 +19,9 @@ class                  builtin base                raised when
                                                    line) or has an unknown extension
 ``OptionsError``       ``ValueError``              an argument has a value that cannot be used:
                                                    unknown operator, backend or normalisation, k
-                                                   out of range, tau outside [0, 1], tau for an
-                                                   operator without one, bad flat tolerance, bad
+                                                   out of range, tau outside [0, 1] or
+                                                   anisotropy below 0, tau or anisotropy for an
+                                                   operator without it, bad flat tolerance, bad
                                                    well parameters, threads not 1 or 2
 ``KernelError``        ``ValueError``              the operator has fewer nonzero eigenvalues
                                                    than asked for outside its exact kernel (or

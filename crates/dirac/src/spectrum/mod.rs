@@ -6,12 +6,16 @@
 //! |---|---|---|---|---|
 //! | Laplace | `L x = λ M x` (`L⊗I`) | `M x = μ (L + εM) x`, `λ = 1/μ − ε` | constants of each component | yes |
 //! | modified Dirichlet `Δ + U` | `(L + M diag(U)) x = λ M x` | as Laplace | constants where `U = 0` | yes |
+//! | anisotropic Laplace `Δ_A`, `α ≥ 0` | `K_α x = λ M x` | as Laplace | constants of each component | yes |
 //! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants | no |
 //! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y` (pinned), `λ = x*Ax / x*Gx` | flat vertices, constants | no |
 //! | family `L(τ)`, blended, `0 < τ < 1` | `A_τ x = λ B_τ x` | as Dirac | constants | yes |
 //! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | not analysed | — |
 //!
 //! with `U = κ₁² + κ₂²` the Willmore potential ([`crate::curvature::willmore_potential`]),
+//! `K_α` the anisotropic stiffness `Σ_t A_t ∇φ_i · H_t ∇φ_j` with the per-face conductivity
+//! `H_t = diag(1/(1 + α|κ₁|), 1/(1 + α|κ₂|))` in the principal frame
+//! ([`crate::anisotropic::anisotropic_laplacian`]; `α = 0` is Laplace),
 //! `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M` (τ = 0 is
 //! Laplace, τ = 1 relative Dirac), `ε` a shift `10⁻¹⁰` times the mean diagonal ratio of `P`
 //! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
@@ -102,11 +106,93 @@ pub enum Operator {
     /// quaternionic multiple of a real eigenvector; the constants are not in its kernel unless
     /// `U = 0` (a plane) and are never deflated.
     ModifiedDirichlet,
+    /// The anisotropic Laplacian `Δ_A = div(A grad)` of Andreux et al. 2014 (paper §2, §4.1),
+    /// conductivity `ψ_α(κ) = 1/(1 + α|κ|)` along each principal direction
+    /// ([`crate::anisotropic`]): pencil `K_α x = λ M x`, real and positive semidefinite, kernel
+    /// the constants of each component.
+    AnisotropicLaplace {
+        /// `α ≥ 0`, in units of length (0: Laplace).
+        anisotropy: f64,
+    },
 }
 
-/// Every operator, the family's at an arbitrary weight: what [`Operator::from_name`] looks
-/// names up in.
-const OPERATORS: [Operator; 7] = [
+/// The one real parameter an operator may take, with its meaning and range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parameter {
+    /// The family's weight `τ ∈ [0, 1]` of `D_N` (0: Laplace, 1: relative Dirac).
+    Weight,
+    /// The anisotropic Laplacian's anisotropy `α ∈ [0, ∞)` (0: Laplace), a length: curvatures
+    /// enter as `α|κ|`.
+    Anisotropy,
+}
+
+impl Parameter {
+    /// What it is, for messages: `the weight τ of D_N`, `the anisotropy α`.
+    pub fn description(self) -> &'static str {
+        match self {
+            Parameter::Weight => "the weight τ of D_N",
+            Parameter::Anisotropy => "the anisotropy α",
+        }
+    }
+
+    /// Its name as a keyword: `tau`, `anisotropy` (the JSON reports' keys, the Python
+    /// package's keyword arguments).
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Parameter::Weight => "tau",
+            Parameter::Anisotropy => "anisotropy",
+        }
+    }
+
+    /// Its symbol: `τ`, `α`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Parameter::Weight => "τ",
+            Parameter::Anisotropy => "α",
+        }
+    }
+
+    /// The placeholder of the written form ([`Operator::forms`]): `T` in `family:T`, `A` in
+    /// `anisotropic-laplace:A`.
+    pub fn placeholder(self) -> &'static str {
+        match self {
+            Parameter::Weight => "T",
+            Parameter::Anisotropy => "A",
+        }
+    }
+
+    /// Its range, as messages write it: `[0, 1]`, `[0, ∞)`.
+    pub fn range(self) -> &'static str {
+        match self {
+            Parameter::Weight => "[0, 1]",
+            Parameter::Anisotropy => "[0, ∞)",
+        }
+    }
+
+    /// Whether `value` is in range (finite).
+    pub fn contains(self, value: f64) -> bool {
+        match self {
+            Parameter::Weight => (0.0..=1.0).contains(&value),
+            Parameter::Anisotropy => value >= 0.0 && value.is_finite(),
+        }
+    }
+
+    /// A typical value, for messages.
+    pub fn example(self) -> f64 {
+        match self {
+            Parameter::Weight => 0.5,
+            Parameter::Anisotropy => DEFAULT_ANISOTROPY,
+        }
+    }
+}
+
+/// The anisotropy `α = 10` the experiments use for [`Operator::AnisotropicLaplace`] on unit-area
+/// meshes (see docs/MATH.md, "The anisotropic Laplacian", for why this value).
+pub const DEFAULT_ANISOTROPY: f64 = 10.0;
+
+/// Every operator, those with a parameter at an arbitrary value: what [`Operator::from_name`]
+/// looks names up in.
+const OPERATORS: [Operator; 8] = [
     Operator::Laplace,
     Operator::RelativeDirac,
     Operator::ExtrinsicDirac,
@@ -114,6 +200,9 @@ const OPERATORS: [Operator; 7] = [
     Operator::FamilyLiteral { tau: 0.5 },
     Operator::Squared,
     Operator::ModifiedDirichlet,
+    Operator::AnisotropicLaplace {
+        anisotropy: DEFAULT_ANISOTROPY,
+    },
 ];
 
 /// Why [`Operator::from_name`] failed.
@@ -126,15 +215,17 @@ pub enum OperatorNameError {
         /// The name given.
         name: String,
     },
-    /// The family needs its weight `τ`.
-    #[error("operator {name:?} needs tau (the weight of D_N, in [0, 1])")]
-    MissingTau {
+    /// The operator needs its parameter (the family `τ`, the anisotropic Laplacian `α`).
+    #[error("operator {name:?} needs {} (in {})", parameter.description(), parameter.range())]
+    MissingParameter {
         /// The operator's name.
         name: &'static str,
+        /// The parameter it needs.
+        parameter: Parameter,
     },
-    /// Only the family has a weight `τ`.
-    #[error("operator {name:?} takes no tau (only family and family-literal do)")]
-    UnexpectedTau {
+    /// The operator takes no parameter.
+    #[error("operator {name:?} takes no parameter (only {} do)", Operator::parametrized().join(", "))]
+    UnexpectedParameter {
         /// The operator's name.
         name: &'static str,
     },
@@ -151,82 +242,104 @@ pub enum ParseOperatorError {
         /// The name given (before any `:`).
         name: String,
     },
-    /// The family was written without its weight `τ`.
+    /// An operator with a parameter was written without it.
     #[error(
-        "operator {name} needs its weight τ of D_N: {name}:T with T in [0, 1], e.g. {name}:0.5"
+        "operator {name} needs {}: {name}:{p} with {p} in {}, e.g. {name}:{}",
+        parameter.description(), parameter.range(), parameter.example(), p = parameter.placeholder()
     )]
-    MissingTau {
+    MissingParameter {
+        /// The operator's name.
+        name: &'static str,
+        /// The parameter it needs.
+        parameter: Parameter,
+    },
+    /// An operator without a parameter was written with one.
+    #[error("operator {name} takes no parameter (only {} do)", Operator::parametrized_forms().join(", "))]
+    UnexpectedParameter {
         /// The operator's name.
         name: &'static str,
     },
-    /// An operator other than the family was written with a weight.
-    #[error("operator {name} takes no weight (only family:T and family-literal:T do)")]
-    UnexpectedTau {
+    /// The text after `:` is not a finite number.
+    #[error("{name}:{text}: {} must be a finite number in {}", parameter.description(), parameter.range())]
+    InvalidParameter {
         /// The operator's name.
         name: &'static str,
-    },
-    /// The weight after `:` is not a finite number.
-    #[error("{name}:{text}: the weight τ must be a finite number in [0, 1]")]
-    InvalidTau {
-        /// The operator's name.
-        name: &'static str,
+        /// Its parameter.
+        parameter: Parameter,
         /// The text after `:`.
         text: String,
     },
-    /// The weight is outside `[0, 1]`.
-    #[error("{name}:{tau}: the weight τ = {tau} is outside [0, 1]")]
-    TauOutOfRange {
+    /// The parameter is out of its range.
+    #[error(
+        "{name}:{value}: {} = {value} is outside {}", parameter.description(), parameter.range()
+    )]
+    ParameterOutOfRange {
         /// The operator's name.
         name: &'static str,
-        /// The weight given.
-        tau: f64,
+        /// Its parameter.
+        parameter: Parameter,
+        /// The value given.
+        value: f64,
     },
 }
 
-/// `laplace`, `relative-dirac`, …, and for the family its weight after a colon: `family:0.5`,
-/// `family-literal:0.25` (`τ` written as the shortest decimal that reads back exactly). What
-/// `FromStr` reads back.
+/// `laplace`, `relative-dirac`, …, and for an operator with a parameter its value after a
+/// colon: `family:0.5`, `family-literal:0.25`, `anisotropic-laplace:10` (written as the
+/// shortest decimal that reads back exactly). What `FromStr` reads back.
 impl fmt::Display for Operator {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.tau() {
-            Some(tau) => write!(f, "{}:{tau}", self.name()),
+        match self.parameter() {
+            Some((_, value)) => write!(f, "{}:{value}", self.name()),
             None => f.write_str(self.name()),
         }
     }
 }
 
-/// Reads exactly what [`Operator`]'s `Display` writes: a name of [`Operator::names`], the
-/// family's with `:T`, `T` a finite number in `[0, 1]`.
+/// Reads exactly what [`Operator`]'s `Display` writes: a name of [`Operator::names`], an
+/// operator with a parameter followed by `:` and its value, a finite number in the
+/// parameter's range ([`Parameter::range`]).
 impl FromStr for Operator {
     type Err = ParseOperatorError;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        let (name, tau) = match text.split_once(':') {
-            Some((name, tau)) => (name, Some(tau)),
+        let (name, value) = match text.split_once(':') {
+            Some((name, value)) => (name, Some(value)),
             None => (text, None),
         };
         let prototype = Operator::prototype(name).ok_or_else(|| ParseOperatorError::Unknown {
             name: name.to_string(),
         })?;
         let name = prototype.name();
-        let tau = match tau {
-            None => None,
-            Some(text) => match text.parse::<f64>().ok().filter(|tau| tau.is_finite()) {
-                None => {
-                    return Err(ParseOperatorError::InvalidTau {
-                        name,
-                        text: text.to_string(),
-                    });
+        let value = match (value, prototype.parameter()) {
+            (None, _) => None,
+            (Some(_), None) => return Err(ParseOperatorError::UnexpectedParameter { name }),
+            (Some(text), Some((parameter, _))) => {
+                match text.parse::<f64>().ok().filter(|v| v.is_finite()) {
+                    None => {
+                        return Err(ParseOperatorError::InvalidParameter {
+                            name,
+                            parameter,
+                            text: text.to_string(),
+                        });
+                    }
+                    Some(value) if !parameter.contains(value) => {
+                        return Err(ParseOperatorError::ParameterOutOfRange {
+                            name,
+                            parameter,
+                            value,
+                        });
+                    }
+                    value => value,
                 }
-                Some(tau) if !(0.0..=1.0).contains(&tau) => {
-                    return Err(ParseOperatorError::TauOutOfRange { name, tau });
-                }
-                tau => tau,
-            },
+            }
         };
-        Operator::from_name(name, tau).map_err(|error| match error {
-            OperatorNameError::MissingTau { name } => ParseOperatorError::MissingTau { name },
-            OperatorNameError::UnexpectedTau { name } => ParseOperatorError::UnexpectedTau { name },
+        Operator::from_name(name, value).map_err(|error| match error {
+            OperatorNameError::MissingParameter { name, parameter } => {
+                ParseOperatorError::MissingParameter { name, parameter }
+            }
+            OperatorNameError::UnexpectedParameter { name } => {
+                ParseOperatorError::UnexpectedParameter { name }
+            }
             OperatorNameError::Unknown { name } => ParseOperatorError::Unknown { name },
         })
     }
@@ -238,29 +351,87 @@ impl Operator {
         OPERATORS.iter().map(|o| o.name()).collect()
     }
 
-    /// How each operator is written for `FromStr`, in the order of the enum: its name, the
-    /// family's followed by `:T` (`family:T`).
+    /// How each operator is written for `FromStr`, in the order of the enum: its name, one
+    /// with a parameter followed by `:` and the parameter's placeholder (`family:T`,
+    /// `anisotropic-laplace:A`).
     pub fn forms() -> Vec<String> {
+        OPERATORS.iter().map(|o| o.form()).collect()
+    }
+
+    /// [`Operator::forms`] of the operators that take a parameter.
+    fn parametrized_forms() -> Vec<String> {
         OPERATORS
             .iter()
-            .map(|o| match o.tau() {
-                Some(_) => format!("{}:T", o.name()),
-                None => o.name().to_string(),
-            })
+            .filter(|o| o.parameter().is_some())
+            .map(|o| o.form())
             .collect()
     }
 
-    /// The operator called `name` ([`Operator::name`]), the family's at an arbitrary weight.
+    /// The names of the operators that take a parameter.
+    fn parametrized() -> Vec<&'static str> {
+        OPERATORS
+            .iter()
+            .filter(|o| o.parameter().is_some())
+            .map(|o| o.name())
+            .collect()
+    }
+
+    /// How this operator is written for `FromStr`, with the placeholder of its parameter.
+    fn form(self) -> String {
+        match self.parameter() {
+            Some((parameter, _)) => format!("{}:{}", self.name(), parameter.placeholder()),
+            None => self.name().to_string(),
+        }
+    }
+
+    /// The operator called `name` ([`Operator::name`]), its parameter at an arbitrary value.
     fn prototype(name: &str) -> Option<Operator> {
         OPERATORS.into_iter().find(|o| o.name() == name)
     }
 
+    /// The operator's parameter and its value: the family's weight `τ`
+    /// ([`Parameter::Weight`]), the anisotropic Laplacian's `α` ([`Parameter::Anisotropy`]);
+    /// `None` for the other operators.
+    pub fn parameter(self) -> Option<(Parameter, f64)> {
+        match self {
+            Operator::Family { tau } | Operator::FamilyLiteral { tau } => {
+                Some((Parameter::Weight, tau))
+            }
+            Operator::AnisotropicLaplace { anisotropy } => {
+                Some((Parameter::Anisotropy, anisotropy))
+            }
+            Operator::Laplace
+            | Operator::RelativeDirac
+            | Operator::ExtrinsicDirac
+            | Operator::Squared
+            | Operator::ModifiedDirichlet => None,
+        }
+    }
+
+    /// The same operator with its parameter set to `value` (unchanged without one).
+    fn with_parameter(self, value: f64) -> Self {
+        match self {
+            Operator::Family { .. } => Operator::Family { tau: value },
+            Operator::FamilyLiteral { .. } => Operator::FamilyLiteral { tau: value },
+            Operator::AnisotropicLaplace { .. } => {
+                Operator::AnisotropicLaplace { anisotropy: value }
+            }
+            other => other,
+        }
+    }
+
     /// The family's weight `τ`; `None` for the other operators.
     pub fn tau(self) -> Option<f64> {
-        match self {
-            Operator::Family { tau } | Operator::FamilyLiteral { tau } => Some(tau),
-            _ => None,
-        }
+        self.parameter()
+            .filter(|(parameter, _)| *parameter == Parameter::Weight)
+            .map(|(_, tau)| tau)
+    }
+
+    /// The anisotropic Laplacian's anisotropy `α`; `None` for the other operators.
+    pub fn anisotropy(self) -> Option<f64> {
+        self.parameter()
+            .filter(|(parameter, _)| *parameter == Parameter::Anisotropy)
+            .map(|(_, alpha)| alpha)
     }
 
     /// The operator's name, as the command line and the Python package spell it.
@@ -273,28 +444,26 @@ impl Operator {
             Operator::FamilyLiteral { .. } => "family-literal",
             Operator::Squared => "squared",
             Operator::ModifiedDirichlet => "modified-dirichlet",
+            Operator::AnisotropicLaplace { .. } => "anisotropic-laplace",
         }
     }
 
-    /// The operator called `name` ([`Operator::name`]); `tau` is required by the family
-    /// (`family`, `family-literal`) and refused by every other operator. The range of `τ` is
-    /// checked by [`spectrum`].
-    pub fn from_name(name: &str, tau: Option<f64>) -> Result<Self, OperatorNameError> {
+    /// The operator called `name` ([`Operator::name`]) with its parameter `value`: required
+    /// by the operators that take one (`family`, `family-literal`: `τ`;
+    /// `anisotropic-laplace`: `α`) and refused by every other operator. The range is checked
+    /// by [`spectrum`].
+    pub fn from_name(name: &str, value: Option<f64>) -> Result<Self, OperatorNameError> {
         let prototype = Operator::prototype(name).ok_or_else(|| OperatorNameError::Unknown {
             name: name.to_string(),
         })?;
-        match (prototype, tau) {
-            (Operator::Family { .. }, Some(tau)) => Ok(Operator::Family { tau }),
-            (Operator::FamilyLiteral { .. }, Some(tau)) => Ok(Operator::FamilyLiteral { tau }),
-            (Operator::Family { .. } | Operator::FamilyLiteral { .. }, None) => {
-                Err(OperatorNameError::MissingTau {
-                    name: prototype.name(),
-                })
+        let name = prototype.name();
+        match (prototype.parameter(), value) {
+            (Some(_), Some(value)) => Ok(prototype.with_parameter(value)),
+            (Some((parameter, _)), None) => {
+                Err(OperatorNameError::MissingParameter { name, parameter })
             }
-            (_, Some(_)) => Err(OperatorNameError::UnexpectedTau {
-                name: prototype.name(),
-            }),
-            (operator, None) => Ok(operator),
+            (None, Some(_)) => Err(OperatorNameError::UnexpectedParameter { name }),
+            (None, None) => Ok(prototype),
         }
     }
 
@@ -313,14 +482,16 @@ impl Operator {
 
     /// Whether the kernel's eigenvalue `0` is listed unless asked otherwise: yes for the
     /// operators whose kernel is at most the constants and whose zero eigenvalue is an
-    /// ordinary one (Laplace, modified Dirichlet, the family for `τ < 1`), no for `D_N`, `D_f`
+    /// ordinary one (Laplace, anisotropic Laplace, modified Dirichlet, the family for `τ < 1`),
+    /// no for `D_N`, `D_f`
     /// and `D_N* D_N`, whose kernel holds every flat vertex (hundreds to thousands on man-made
     /// shapes) and where the pencil is singular.
     pub fn lists_kernel_by_default(self) -> bool {
         match self {
-            Operator::Laplace | Operator::ModifiedDirichlet | Operator::FamilyLiteral { .. } => {
-                true
-            }
+            Operator::Laplace
+            | Operator::AnisotropicLaplace { .. }
+            | Operator::ModifiedDirichlet
+            | Operator::FamilyLiteral { .. } => true,
             Operator::Family { tau } => tau < 1.0,
             Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Squared => false,
         }
@@ -348,7 +519,9 @@ pub enum Normalization {
     /// Scale positions by `s = 1/sqrt(total area)` (unit total area). Scaling a mesh by `s`
     /// multiplies the eigenvalues of `D_N`, `Δ`, `Δ + U` and the literal `L(τ)` by `1/s²`, of `D_f` by
     /// `1/s` and of `D_N* D_N` by `1/s⁴`. The blended `L(τ)` is not homogeneous: its values
-    /// at scale `s` are those at scale 1 for `τ' = τ/(τ + (1−τ)s²)`, divided by `s²`.
+    /// at scale `s` are those at scale 1 for `τ' = τ/(τ + (1−τ)s²)`, divided by `s²`. Nor is
+    /// the anisotropic Laplacian (curvatures scale as `1/s`, so `ψ_α(κ/s) = ψ_{αs⁻¹}(κ)`): its
+    /// values at scale `s` are those at scale 1 for `α' = α/s`, divided by `s²`.
     UnitArea,
 }
 
@@ -436,9 +609,20 @@ pub enum SpectrumError {
         /// Vertices.
         vertices: usize,
     },
-    /// `τ` outside `[0, 1]` (or not finite).
-    #[error("tau = {0} is outside [0, 1]")]
-    InvalidTau(f64),
+    /// The operator's parameter (`τ` of the family, `α` of the anisotropic Laplacian) is
+    /// outside its range or not finite.
+    #[error(
+        "{operator}: {} = {value} is outside {} ({})",
+        parameter.keyword(), parameter.range(), parameter.description()
+    )]
+    InvalidParameter {
+        /// The operator's name.
+        operator: &'static str,
+        /// Its parameter.
+        parameter: Parameter,
+        /// The value given.
+        value: f64,
+    },
     /// Scaling the mesh to unit area ([`Normalization::UnitArea`]) leaves floating-point
     /// range.
     #[error("normalising to unit area (scale {scale:e}) gives an invalid mesh: {source}")]
@@ -572,10 +756,10 @@ fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, toleran
 /// real and `2n × 2n` complex forms.
 #[derive(Debug, Clone)]
 pub struct Eigenproblem {
-    /// `P`: `L` (Laplace), `L + M diag(U)` (modified Dirichlet), `A = D* M_F D` (relative and
+    /// `P`: `L` (Laplace), `K_α` (anisotropic Laplace), `L + M diag(U)` (modified Dirichlet), `A = D* M_F D` (relative and
     /// extrinsic Dirac, squared), `τA + (1−τ)L` (family), `(1−τ)L + τG` (literal family).
     pub stiffness: SparseMatrix<Quat<f64>>,
-    /// `Q`: `M` (Laplace, modified Dirichlet, squared, literal family), `G = sym(Bᵀ M_F D)`
+    /// `Q`: `M` (Laplace, anisotropic Laplace, modified Dirichlet, squared, literal family), `G = sym(Bᵀ M_F D)`
     /// (relative and extrinsic Dirac), `τG + (1−τ)M` (family).
     pub coupling: SparseMatrix<Quat<f64>>,
     /// The barycentric vertex masses `Ā_p`, the diagonal of `M`.
@@ -742,7 +926,7 @@ fn compute(
     )
 }
 
-/// `k` and `τ` in range, flat tolerance valid.
+/// `k` and the operator's parameter in range, flat tolerance valid.
 fn validate(mesh: &TriMesh, options: &SpectrumOptions) -> Result<(), SpectrumError> {
     let n = mesh.vertex_count();
     if options.k == 0 || options.k > n {
@@ -760,12 +944,16 @@ fn validate(mesh: &TriMesh, options: &SpectrumOptions) -> Result<(), SpectrumErr
     validate_operator(options)
 }
 
-/// `τ` in range, flat tolerance valid.
+/// The operator's parameter in range, flat tolerance valid.
 fn validate_operator(options: &SpectrumOptions) -> Result<(), SpectrumError> {
-    if let Operator::Family { tau } | Operator::FamilyLiteral { tau } = options.operator
-        && !(0.0..=1.0).contains(&tau)
+    if let Some((parameter, value)) = options.operator.parameter()
+        && !parameter.contains(value)
     {
-        return Err(SpectrumError::InvalidTau(tau));
+        return Err(SpectrumError::InvalidParameter {
+            operator: options.operator.name(),
+            parameter,
+            value,
+        });
     }
     if !(options.flat_tolerance >= 0.0 && options.flat_tolerance.is_finite()) {
         return Err(SpectrumError::InvalidFlatTolerance(options.flat_tolerance));

@@ -7,6 +7,7 @@ use qsparse::SparseMatrix;
 use super::kernel::{flat_faces, vanishing_faces};
 use super::{Operator, SpectrumError};
 use crate::TriMesh;
+use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
 use crate::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
@@ -85,6 +86,13 @@ impl PencilSpec {
         let spec = match operator {
             Operator::Laplace | Operator::Family { tau: 0.0 } => Self::shifted(
                 laplacian(cotan_laplacian(mesh))?,
+                mass,
+                &masses,
+                potential,
+                mesh,
+            ),
+            Operator::AnisotropicLaplace { anisotropy } => Self::shifted(
+                laplacian(anisotropic_laplacian(mesh, anisotropy)?)?,
                 mass,
                 &masses,
                 potential,
