@@ -9,6 +9,7 @@ use crate::commands::eigenfunctions::{self, EigenfunctionsArgs};
 use crate::commands::plot::{self, PlotArgs, PlotCommand};
 use crate::commands::render::{self, RenderArgs};
 use crate::commands::repair::{self, RepairArgs};
+use crate::commands::segment::{self, SegmentArgs};
 use crate::commands::segment_eval::{self, SegmentEvalArgs};
 use crate::commands::spectrum::{self, SpectrumArgs};
 use crate::common::error::CliError;
@@ -57,6 +58,10 @@ pub enum Command {
     Render(RenderArgs),
     /// Charts (PNG or SVG): `dirac plot spectra` draws several spectra in one chart.
     Plot(PlotArgs),
+    /// Segment a mesh by consensus segmentation of the descriptor |φ_i|/√|λ_i| (paper §6.2),
+    /// to a .seg, a .ply with a colour per face or a .png.
+    #[command(after_help = segment::AFTER_HELP)]
+    Segment(SegmentArgs),
     /// Repair a mesh (merge duplicate vertices, drop degenerate faces, split non-manifold
     /// edges and vertices, orient faces) and write it, reporting every change.
     #[command(after_help = repair::AFTER_HELP)]
@@ -77,6 +82,7 @@ impl Command {
             Command::Batch(_) => &["batch"],
             Command::Render(_) => &["render"],
             Command::Repair(_) => &["repair"],
+            Command::Segment(_) => &["segment"],
             Command::SegmentEval(_) => &["segment-eval"],
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(_),
@@ -92,6 +98,7 @@ impl Command {
             Command::Descriptor(args) => Some(&args.solve),
             Command::Batch(args) => Some(&args.solve),
             Command::Render(args) => Some(&args.solve),
+            Command::Segment(args) => Some(&args.solve),
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(args),
             }) => Some(&args.solve),
@@ -119,6 +126,7 @@ pub fn dispatch(command: &Command) -> Result<(), CliError> {
         Command::Render(args) => render::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Repair(args) => repair::run(args),
+        Command::Segment(args) => segment::run(args),
         Command::SegmentEval(args) => segment_eval::run(args),
     });
     outcome.map_err(|error| match error {

@@ -29,12 +29,14 @@
 //! | [`phase`] | mass inner products and the canonical phase of eigenvectors |
 //! | [`well`] | geodesic distance (heat method) and the potential well of paper §5.1 |
 //! | [`descriptors`] | heat, Dirac and wave kernel signatures, the segmentation descriptor |
-//! | [`segmentation`] | per-face segmentations: the benchmark's `.seg` files and its error measures |
+//! | [`clustering`] | k-means (Lloyd; uniform or k-means++ start) of flat row-major points |
+//! | [`segmentation`] | per-face segmentations: consensus segmentation, the benchmark's `.seg` files and its error measures |
 //!
 //! The mathematics, with every convention and sign, is in `docs/MATH.md` of the repository;
 //! the layers (`qscalar` → `qsparse` → `qeig` → `dirac`) in `docs/ARCHITECTURE.md`.
 
 pub mod anisotropic;
+pub mod clustering;
 pub mod curvature;
 pub mod descriptors;
 mod disjoint_sets;

@@ -63,6 +63,7 @@ fn ply_scalar_and_colour_are_written_per_vertex() {
             encoding,
             scalar: Some(("quality", &values)),
             colors: Some(&colors),
+            face_colors: None,
         };
         write_ply_to(&mesh, &mut bytes, &options).unwrap();
         let ply = Parser::<DefaultElement>::new()
@@ -82,6 +83,50 @@ fn ply_scalar_and_colour_are_written_per_vertex() {
             mesh
         );
     }
+}
+
+#[test]
+fn ply_face_colours_are_written_per_face() {
+    let mesh = icosphere(1);
+    let colors: Vec<[u8; 3]> = (0..mesh.face_count())
+        .map(|t| [t as u8, 3 * t as u8, 200])
+        .collect();
+    for encoding in [PlyEncoding::Ascii, PlyEncoding::BinaryLittleEndian] {
+        let mut bytes = Vec::new();
+        let options = PlyWriteOptions {
+            encoding,
+            face_colors: Some(&colors),
+            ..Default::default()
+        };
+        write_ply_to(&mesh, &mut bytes, &options).unwrap();
+        let ply = Parser::<DefaultElement>::new()
+            .read_ply(&mut &bytes[..])
+            .unwrap();
+        let faces = &ply.payload["face"];
+        assert_eq!(faces.len(), mesh.face_count());
+        for (t, e) in faces.iter().enumerate() {
+            assert_eq!(e["red"], Property::UChar(colors[t][0]));
+            assert_eq!(e["green"], Property::UChar(colors[t][1]));
+            assert_eq!(e["blue"], Property::UChar(colors[t][2]));
+        }
+        assert_eq!(
+            read_ply_from(&bytes[..]).unwrap().into_mesh().unwrap(),
+            mesh
+        );
+    }
+    let short = &colors[1..];
+    let options = PlyWriteOptions {
+        face_colors: Some(short),
+        ..Default::default()
+    };
+    assert!(matches!(
+        write_ply_to(&mesh, &mut Vec::new(), &options),
+        Err(WriteError::FaceAttributeLength {
+            expected: 80,
+            found: 79,
+            ..
+        })
+    ));
 }
 
 #[test]

@@ -10,6 +10,8 @@
 //!   well (Fig. 7, Fig. 10);
 //! * [`bumps`]: a surface with an inward and an outward bump, two tessellations,
 //!   correspondence by nearest descriptor (Fig. 12);
+//! * [`segmentation`]: consensus segmentation of the Princeton benchmark's models, scored
+//!   against their human segmentations (§6.2, Fig. 11);
 //! * [`flat_vs_curved`]: kernel and small eigenvalues of `D_N` on a cube and a sphere (Fig. 5,
 //!   Fig. 9);
 //! * [`two_surfaces`]: the relative Dirac operator `D_{f1,f2}` of a surface and a deformed copy
@@ -36,6 +38,7 @@ pub mod patches;
 pub mod patches_study;
 pub mod plots;
 pub mod report;
+pub mod segmentation;
 pub mod spectra;
 pub mod spectral_features;
 pub mod threshold;
@@ -88,6 +91,15 @@ pub enum ExperimentError {
     /// A picture could not be rendered.
     #[error(transparent)]
     Render(#[from] dirac_cli::render::RenderError),
+    /// A `.seg` file could not be read.
+    #[error(transparent)]
+    SegFile(#[from] dirac::segmentation::seg_file::SegFileError),
+    /// A segmentation could not be computed.
+    #[error(transparent)]
+    Segmentation(#[from] dirac::segmentation::consensus::SegmentationError),
+    /// A segmentation could not be scored.
+    #[error(transparent)]
+    Evaluation(#[from] dirac::segmentation::evaluation::EvaluationError),
     /// A mesh file could not be written.
     #[error(transparent)]
     WriteMesh(#[from] dirac::io::WriteError),

@@ -1,9 +1,11 @@
 //! How well a set of descriptors (one vector per shape) separates known classes: leave-one-out
 //! nearest-neighbour accuracy, the ratio of between-class to within-class distance, and the
-//! purity of k-means clusterings from many random starts (the paper's §6.1 measure).
+//! purity of k-means clusterings ([`dirac::clustering`]) from many random starts (the paper's
+//! §6.1 measure).
 //!
 //! Distances are Euclidean, `d(a, b) = ‖a − b‖₂`, over the common length of the two vectors.
 
+use dirac::clustering::{Initialisation, KMeansOptions, Points, kmeans};
 use qscalar::random::SplitMix64;
 
 /// `‖a − b‖₂` over the first `min(|a|, |b|)` entries.
@@ -63,48 +65,6 @@ pub fn separation_ratio(distances: &[Vec<f64>], labels: &[usize]) -> f64 {
     (between.0 / between.1 as f64) / (within.0 / within.1 as f64)
 }
 
-/// One run of Lloyd's k-means from `k` distinct points drawn uniformly at random as the
-/// initial centres; stops when no assignment changes (at most 300 iterations). A cluster that
-/// empties keeps its centre. Returns the cluster of every point. Requires `1 ≤ k ≤ |points|`
-/// (the caller checks).
-pub fn kmeans(points: &[Vec<f64>], k: usize, rng: &mut SplitMix64) -> Vec<usize> {
-    let n = points.len();
-    let dimension = points.first().map_or(0, Vec::len);
-    // Partial Fisher–Yates: the first k entries are a uniform random k-subset.
-    let mut order: Vec<usize> = (0..n).collect();
-    for i in 0..k {
-        let j = i + (rng.next_u64() % (n - i) as u64) as usize;
-        order.swap(i, j);
-    }
-    let mut centres: Vec<Vec<f64>> = order[..k].iter().map(|&i| points[i].clone()).collect();
-    let mut assignment = vec![usize::MAX; n];
-    for _ in 0..300 {
-        let mut changed = false;
-        for (p, point) in points.iter().enumerate() {
-            let nearest = (0..k)
-                .min_by(|&a, &b| {
-                    euclidean(point, &centres[a]).total_cmp(&euclidean(point, &centres[b]))
-                })
-                .expect("k ≥ 1");
-            changed |= assignment[p] != nearest;
-            assignment[p] = nearest;
-        }
-        if !changed {
-            break;
-        }
-        let mut sums = vec![vec![0.0; dimension]; k];
-        let mut counts = vec![0usize; k];
-        for (point, &c) in points.iter().zip(&assignment) {
-            counts[c] += 1;
-            sums[c].iter_mut().zip(point).for_each(|(s, x)| *s += x);
-        }
-        for c in (0..k).filter(|&c| counts[c] > 0) {
-            centres[c] = sums[c].iter().map(|s| s / counts[c] as f64).collect();
-        }
-    }
-    assignment
-}
-
 /// Purity `(1/N) Σ_clusters max_class |cluster ∩ class|` (Manning, Raghavan, Schütze 2008,
 /// p. 357): 1 when every cluster holds a single class.
 pub fn purity(assignment: &[usize], labels: &[usize]) -> f64 {
@@ -121,9 +81,11 @@ pub fn purity(assignment: &[usize], labels: &[usize]) -> f64 {
     majority as f64 / labels.len().max(1) as f64
 }
 
-/// The mean [`purity`] of `starts` [`kmeans`] runs with `k` clusters, the random starts drawn
-/// from one [`SplitMix64`] seeded with `seed`. `k` is clamped to `[1, |points|]`; 0 without
-/// points or starts.
+/// The mean [`purity`] of `starts` runs of [`dirac::clustering::kmeans`] with `k` clusters
+/// from uniformly random distinct points ([`Initialisation::Uniform`], at most 300 passes), the
+/// random starts drawn from one [`SplitMix64`] seeded with `seed`. Points are compared over the
+/// length of the shortest. `k` is clamped to `[1, |points|]`; 0 without points or starts, NaN
+/// when the points have no coordinates or a non-finite one.
 pub fn mean_kmeans_purity(
     points: &[Vec<f64>],
     labels: &[usize],
@@ -134,12 +96,27 @@ pub fn mean_kmeans_purity(
     if points.is_empty() || starts == 0 {
         return 0.0;
     }
-    let k = k.clamp(1, points.len());
+    let dimension = points.iter().map(Vec::len).min().unwrap_or(0);
+    let rows: Vec<f64> = points
+        .iter()
+        .flat_map(|p| p[..dimension].iter().copied())
+        .collect();
+    let Ok(points) = Points::new(&rows, dimension) else {
+        return f64::NAN;
+    };
+    let options = KMeansOptions {
+        initialisation: Initialisation::Uniform,
+        ..KMeansOptions::new(k.clamp(1, points.len()))
+    };
     let mut rng = SplitMix64::new(seed);
-    (0..starts)
-        .map(|_| purity(&kmeans(points, k, &mut rng), labels))
-        .sum::<f64>()
-        / starts as f64
+    let mut total = 0.0;
+    for _ in 0..starts {
+        match kmeans(&points, &options, &mut rng) {
+            Ok(clustering) => total += purity(&clustering.assignment, labels),
+            Err(_) => return f64::NAN,
+        }
+    }
+    total / starts as f64
 }
 
 /// The three separation scores of one operator's descriptors.

@@ -1,9 +1,9 @@
 //! The separation metrics and the 2-D embedding against hand-checkable configurations.
 
+use dirac::clustering::{Initialisation, KMeansOptions, Points, kmeans};
 use experiments::embedding::classical_mds;
 use experiments::metrics::{
-    Scores, distance_matrix, kmeans, leave_one_out_accuracy, mean_kmeans_purity, purity,
-    separation_ratio,
+    Scores, distance_matrix, leave_one_out_accuracy, mean_kmeans_purity, purity, separation_ratio,
 };
 use qscalar::random::SplitMix64;
 
@@ -36,8 +36,17 @@ fn separated_clusters_score_perfectly() {
     // Random starts can put two centres in one cluster; Lloyd then leaves a cluster split and
     // two classes merged, so the mean purity is at most 1 and each run is 1 or 2/3.
     let mut rng = SplitMix64::new(3);
+    let rows: Vec<f64> = points.concat();
+    let rows = Points::new(&rows, 3).expect("finite points");
+    let options = KMeansOptions {
+        initialisation: Initialisation::Uniform,
+        ..KMeansOptions::new(3)
+    };
     for _ in 0..20 {
-        let p = purity(&kmeans(&points, 3, &mut rng), &labels);
+        let assignment = kmeans(&rows, &options, &mut rng)
+            .expect("3 ≤ 12")
+            .assignment;
+        let p = purity(&assignment, &labels);
         assert!(p == 1.0 || (p - 8.0 / 12.0).abs() < 1e-12, "purity {p}");
     }
     assert!(scores.purity > 0.6 && scores.purity <= 1.0);

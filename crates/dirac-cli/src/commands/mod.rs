@@ -8,5 +8,6 @@ pub mod eigenfunctions;
 pub mod plot;
 pub mod render;
 pub mod repair;
+pub mod segment;
 pub mod segment_eval;
 pub mod spectrum;

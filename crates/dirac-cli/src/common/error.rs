@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use dirac::descriptors::DescriptorError;
 use dirac::io::{ReadError, WriteError};
 use dirac::repair::RepairError;
+use dirac::segmentation::consensus::SegmentationError;
 use dirac::segmentation::evaluation::EvaluationError;
 use dirac::segmentation::seg_file::SegFileError;
 use dirac::spectrum::SpectrumError;
@@ -97,6 +98,14 @@ pub enum CliError {
         mesh: String,
         /// What failed.
         source: DescriptorError,
+    },
+    /// The segmentation cannot be computed from the descriptor.
+    #[error("{mesh}: segmentation: {source}")]
+    Segmentation {
+        /// The mesh, as in reports.
+        mesh: String,
+        /// What failed.
+        source: SegmentationError,
     },
     /// The potential well cannot be computed on this mesh.
     #[error("{mesh}: potential well: {source}")]

@@ -1,5 +1,6 @@
 //! The viridis colour map: perceptually uniform, monotone in lightness, readable in grey scale
-//! and by viewers with the common colour-vision deficiencies.
+//! and by viewers with the common colour-vision deficiencies; and the distinct colours of
+//! segments ([`segment_colour`]).
 //!
 //! Source of the table: every fifth entry (indices 0, 5, …, 255) of `_viridis_data`, the
 //! 256-entry sRGB table of matplotlib's viridis by Stéfan van der Walt, Nathaniel J. Smith and
@@ -73,6 +74,46 @@ pub fn viridis(t: f64) -> [u8; 3] {
     std::array::from_fn(|c| ((a[c] + (b[c] - a[c]) * f) * 255.0).round() as u8)
 }
 
+/// The ten colours of Tableau 10 (matplotlib's `tab10`): distinct categorical colours.
+const CATEGORICAL: [[u8; 3]; 10] = [
+    [31, 119, 180],
+    [255, 127, 14],
+    [44, 160, 44],
+    [214, 39, 40],
+    [148, 103, 189],
+    [140, 86, 75],
+    [227, 119, 194],
+    [127, 127, 127],
+    [188, 189, 34],
+    [23, 190, 207],
+];
+
+/// The colour of segment `i`: Tableau 10 for the first ten, then hues stepped by the golden
+/// ratio (`h = 0.618034 i mod 1`, saturation 0.55, value 0.9), which stay apart for any count.
+pub fn segment_colour(i: usize) -> [u8; 3] {
+    if let Some(&colour) = CATEGORICAL.get(i) {
+        return colour;
+    }
+    let hue = (0.618_033_988_749_895 * i as f64).fract() * 6.0;
+    let (saturation, value) = (0.55, 0.9);
+    let sector = hue.floor();
+    let f = hue - sector;
+    let (p, q, t) = (
+        value * (1.0 - saturation),
+        value * (1.0 - saturation * f),
+        value * (1.0 - saturation * (1.0 - f)),
+    );
+    let rgb = match sector as u32 {
+        0 => [value, t, p],
+        1 => [q, value, p],
+        2 => [p, value, t],
+        3 => [p, q, value],
+        4 => [t, p, value],
+        _ => [value, p, q],
+    };
+    rgb.map(|c| (c * 255.0).round() as u8)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,5 +161,24 @@ mod tests {
             samples[0],
             samples[200]
         );
+    }
+
+    #[test]
+    fn segment_colours_are_distinct() {
+        let colours: Vec<[u8; 3]> = (0..40).map(segment_colour).collect();
+        for i in 0..colours.len() {
+            for j in 0..i {
+                let d: i32 = (0..3)
+                    .map(|c| (i32::from(colours[i][c]) - i32::from(colours[j][c])).abs())
+                    .sum();
+                assert!(
+                    d > 12,
+                    "segments {j} and {i}: {:?} {:?}",
+                    colours[j],
+                    colours[i]
+                );
+            }
+        }
+        assert_eq!(segment_colour(0), [31, 119, 180]);
     }
 }

@@ -33,6 +33,7 @@ use thiserror::Error;
 
 use camera::{Camera, Projected};
 use canvas::{Canvas, FONT_FAMILY};
+pub use colormap::segment_colour;
 use colormap::viridis;
 use raster::{Corner, Raster};
 
@@ -242,6 +243,14 @@ pub enum RenderError {
         /// Panels per row.
         columns: usize,
     },
+    /// A segmentation does not have one label per face.
+    #[error("the segmentation has {labels} labels but the mesh has {faces} faces")]
+    LabelCount {
+        /// Labels given.
+        labels: usize,
+        /// Faces of the mesh.
+        faces: usize,
+    },
     /// Drawing the titles or labels failed.
     #[error("cannot draw the text of the picture: {0}")]
     Text(String),
@@ -269,6 +278,69 @@ pub fn render_png(
             path: path.to_path_buf(),
             source,
         })
+}
+
+/// Renders a segmentation of `mesh` into the PNG file `path`: one panel of
+/// `width × height` titled `title`, every face in the flat colour of its segment
+/// ([`segment_colour`]`(labels[face])`) under the same lighting as [`render_png`], and dark
+/// lines where faces of different segments meet on screen (the segments' boundaries, and
+/// where one segment passes in front of another). `options.columns` is not used.
+pub fn render_segments_png(
+    mesh: &TriMesh,
+    labels: &[usize],
+    title: &str,
+    options: &RenderOptions,
+    path: &Path,
+) -> Result<(), RenderError> {
+    render_segments(mesh, labels, title, options)?
+        .write_png(path)
+        .map_err(|source| RenderError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
+/// The picture of [`render_segments_png`] in memory.
+fn render_segments(
+    mesh: &TriMesh,
+    labels: &[usize],
+    title: &str,
+    options: &RenderOptions,
+) -> Result<Canvas, RenderError> {
+    validate_options(options)?;
+    if labels.len() != mesh.face_count() {
+        return Err(RenderError::LabelCount {
+            labels: labels.len(),
+            faces: mesh.face_count(),
+        });
+    }
+    let (width, height) = (options.width, options.height);
+    if width < MIN_PANEL || height < MIN_PANEL {
+        return Err(RenderError::TooSmall {
+            width,
+            height,
+            fields: 1,
+            columns: 1,
+        });
+    }
+    let factor = supersampling(options.supersampling, width, height);
+    let cell = Rect {
+        x: 0,
+        y: 0,
+        width: width * factor,
+        height: height * factor,
+    };
+    let panel = Panel::new(cell, factor);
+    let scene = Scene::new(mesh, options, panel.viewport);
+    let raster = scene.draw(mesh, &vec![0.0; mesh.vertex_count()]);
+    // Lines about one output pixel wide: `factor` samples.
+    let radius = (factor as usize).div_ceil(2);
+    let image = raster.shade_segments(BACKGROUND, labels, segment_colour, INK, radius);
+    let mut canvas = Canvas::new(cell.width, cell.height, BACKGROUND);
+    canvas.blit(panel.viewport.x, panel.viewport.y, &image);
+    let [heading, ..] = panel.texts(title, 0.0, 0.0);
+    draw_texts(&mut canvas, &[heading])?;
+    Ok(canvas.downsample(factor))
 }
 
 /// White.
@@ -365,20 +437,7 @@ fn render(
 
 /// Checks everything about the input that does not depend on the layout.
 fn validate(mesh: &TriMesh, fields: &[Field], options: &RenderOptions) -> Result<(), RenderError> {
-    let (width, height) = (options.width, options.height);
-    if width == 0 || height == 0 {
-        return Err(RenderError::ZeroSize { width, height });
-    }
-    if width > MAX_SIDE || height > MAX_SIDE {
-        return Err(RenderError::TooLarge { width, height });
-    }
-    if options.supersampling == 0 {
-        return Err(RenderError::ZeroSupersampling);
-    }
-    let view = options.view;
-    if !(view.azimuth_degrees.is_finite() && view.elevation_degrees.is_finite()) {
-        return Err(RenderError::NonFiniteView { view });
-    }
+    validate_options(options)?;
     if fields.is_empty() {
         return Err(RenderError::NoFields);
     }
@@ -402,6 +461,25 @@ fn validate(mesh: &TriMesh, fields: &[Field], options: &RenderOptions) -> Result
                 value,
             });
         }
+    }
+    Ok(())
+}
+
+/// Checks the size, supersampling and view.
+fn validate_options(options: &RenderOptions) -> Result<(), RenderError> {
+    let (width, height) = (options.width, options.height);
+    if width == 0 || height == 0 {
+        return Err(RenderError::ZeroSize { width, height });
+    }
+    if width > MAX_SIDE || height > MAX_SIDE {
+        return Err(RenderError::TooLarge { width, height });
+    }
+    if options.supersampling == 0 {
+        return Err(RenderError::ZeroSupersampling);
+    }
+    let view = options.view;
+    if !(view.azimuth_degrees.is_finite() && view.elevation_degrees.is_finite()) {
+        return Err(RenderError::NonFiniteView { view });
     }
     Ok(())
 }
@@ -640,12 +718,14 @@ impl Scene {
     /// Rasterises the mesh with colour-map coordinates `coordinate` (one per vertex).
     fn draw(&self, mesh: &TriMesh, coordinate: &[f64]) -> Raster {
         let mut raster = Raster::new(self.width, self.height);
-        for (face, light) in mesh.faces().iter().zip(&self.light) {
-            raster.draw([0, 1, 2].map(|c| Corner {
+        for (index, (face, light)) in mesh.faces().iter().zip(&self.light).enumerate() {
+            let corners = [0, 1, 2].map(|c| Corner {
                 at: self.projected[face[c]],
                 value: coordinate[face[c]],
                 light: light[c],
-            }));
+            });
+            // Face indices fit u32: the renderer's meshes are far smaller than 2³² faces.
+            raster.draw(corners, index as u32);
         }
         raster
     }

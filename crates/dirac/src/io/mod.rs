@@ -288,6 +288,16 @@ pub enum WriteError {
         /// Number of values given.
         found: usize,
     },
+    /// A per-face attribute does not have one value per face.
+    #[error("per-face `{attribute}` has {found} values for {expected} faces")]
+    FaceAttributeLength {
+        /// The attribute.
+        attribute: String,
+        /// Number of faces.
+        expected: usize,
+        /// Number of values given.
+        found: usize,
+    },
     /// An attribute name that PLY cannot hold (empty, or containing whitespace) or that
     /// collides with a position or colour property.
     #[error("`{0}` is not a usable PLY property name")]

@@ -296,10 +296,13 @@ pub struct PlyWriteOptions<'a> {
     pub scalar: Option<(&'a str, &'a [f64])>,
     /// Per-vertex colour, written as `uchar` properties `red`, `green`, `blue`.
     pub colors: Option<&'a [[u8; 3]]>,
+    /// Per-face colour, written as `uchar` properties `red`, `green`, `blue` of the `face`
+    /// element (flat colours, as MeshLab and Blender read them).
+    pub face_colors: Option<&'a [[u8; 3]]>,
 }
 
 /// Writes `mesh` as PLY: `vertex` with `double x, y, z` (then the optional scalar and colour),
-/// `face` with `list uchar uint vertex_indices`.
+/// `face` with `list uchar uint vertex_indices` (then the optional colour).
 pub fn write_ply_to(
     mesh: &TriMesh,
     out: &mut impl Write,
@@ -350,6 +353,20 @@ pub fn write_ply_to(
         "vertex_indices".into(),
         PropertyType::List(ScalarType::UChar, ScalarType::UInt),
     ));
+    if let Some(colors) = options.face_colors {
+        if colors.len() != mesh.face_count() {
+            return Err(WriteError::FaceAttributeLength {
+                attribute: "color".to_string(),
+                expected: mesh.face_count(),
+                found: colors.len(),
+            });
+        }
+        for name in ["red", "green", "blue"] {
+            face_def
+                .properties
+                .add(scalar_property(name, ScalarType::UChar));
+        }
+    }
 
     let vertices = (0..n)
         .map(|v| {
@@ -371,10 +388,16 @@ pub fn write_ply_to(
     let faces = mesh
         .faces()
         .iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(t, f)| {
             let mut e = DefaultElement::new();
             let list = f.iter().map(|&v| v as u32).collect();
             e.insert("vertex_indices".into(), Property::ListUInt(list));
+            if let Some(colors) = options.face_colors {
+                for (name, c) in ["red", "green", "blue"].iter().zip(colors[t]) {
+                    e.insert(name.to_string(), Property::UChar(c));
+                }
+            }
             e
         })
         .collect();

@@ -8,8 +8,10 @@
 //!
 //! | module | what it holds |
 //! |---|---|
+//! | [`consensus`] | the consensus segmentation of paper §6.2: k-means trials combined by persistence |
 //! | [`seg_file`] | the benchmark's `.seg` files: one segment number per line |
 //! | [`evaluation`] | the benchmark's error measures between a segmentation and references |
 
+pub mod consensus;
 pub mod evaluation;
 pub mod seg_file;
