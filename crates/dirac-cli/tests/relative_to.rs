@@ -5,19 +5,29 @@
 
 mod support;
 
+use std::path::PathBuf;
+
+use dirac::TriMesh;
 use dirac::spectrum::{Operator, SpectrumOptions, relative_spectrum};
 use serde_json::Value;
 
 use support::{assert_success, bumpy_sphere, dirac, scratch, stderr, text, write_off};
 
-#[test]
-fn spectrum_relative_to_a_second_surface_is_the_librarys() {
-    let dir = scratch("relative-to-spectrum");
-    let (a, b) = (bumpy_sphere(2, 1, 0.1), bumpy_sphere(2, 2, 0.1));
-    let (path_a, path_b) = (
+/// Two bumpy spheres of one triangulation (seeds `seed`, `seed + 1`), written as `a.off` and
+/// `b.off` in a fresh directory `name`: the meshes and their files.
+fn two_surfaces(name: &str, seed: u64) -> ([TriMesh; 2], [PathBuf; 2]) {
+    let dir = scratch(name);
+    let (a, b) = (bumpy_sphere(2, seed, 0.1), bumpy_sphere(2, seed + 1, 0.1));
+    let paths = [
         write_off(&a, dir.join("a.off")),
         write_off(&b, dir.join("b.off")),
-    );
+    ];
+    ([a, b], paths)
+}
+
+#[test]
+fn spectrum_relative_to_a_second_surface_is_the_librarys() {
+    let ([a, b], [path_a, path_b]) = two_surfaces("relative-to-spectrum", 1);
     let output = dirac(&[
         "spectrum",
         text(&path_a),
@@ -50,12 +60,8 @@ fn spectrum_relative_to_a_second_surface_is_the_librarys() {
 
 #[test]
 fn eigenfunctions_and_render_take_the_reference_too() {
-    let dir = scratch("relative-to-outputs");
-    let (a, b) = (bumpy_sphere(2, 3, 0.1), bumpy_sphere(2, 4, 0.1));
-    let (path_a, path_b) = (
-        write_off(&a, dir.join("a.off")),
-        write_off(&b, dir.join("b.off")),
-    );
+    let (_, [path_a, path_b]) = two_surfaces("relative-to-outputs", 3);
+    let dir = path_a.parent().expect("a file in a directory");
     let ply = dir.join("mode.ply");
     assert_success(&dirac(&[
         "eigenfunctions",

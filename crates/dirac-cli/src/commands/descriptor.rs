@@ -252,14 +252,12 @@ pub fn run(args: &DescriptorArgs) -> Result<(), CliError> {
     if args.kind == DescriptorKind::Hks {
         args.solve.use_laplacian(&mut options, "hks");
     }
-    args.reference.check(options.operator)?;
-    let prepared = args
-        .solve
-        .preparation
-        .load(args.mesh.as_deref(), args.quiet)?;
-    let reference = args
-        .reference
-        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let (prepared, reference) = args.reference.load_with_mesh(
+        &args.solve.preparation,
+        args.mesh.as_deref(),
+        options.operator,
+        args.quiet,
+    )?;
     let PreparedMesh { mesh, name, .. } = prepared;
     check_size(args, mesh.vertex_count(), options.k)?;
     let solved = solve(&mesh, reference.as_ref(), &name, &options, args.quiet)?;

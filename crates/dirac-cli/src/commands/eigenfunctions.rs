@@ -135,14 +135,12 @@ fn output(args: &EigenfunctionsArgs) -> Result<Output, CliError> {
 pub fn run(args: &EigenfunctionsArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let output = output(args)?;
-    args.reference.check(options.operator)?;
-    let prepared = args
-        .solve
-        .preparation
-        .load(args.mesh.as_deref(), args.quiet)?;
-    let reference = args
-        .reference
-        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let (prepared, reference) = args.reference.load_with_mesh(
+        &args.solve.preparation,
+        args.mesh.as_deref(),
+        options.operator,
+        args.quiet,
+    )?;
     let PreparedMesh { mesh, name, .. } = prepared;
     let solved = solve(&mesh, reference.as_ref(), &name, &options, args.quiet)?;
     let spectrum = &solved.spectrum;

@@ -197,14 +197,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             ),
         ));
     }
-    args.reference.check(options.operator)?;
-    let prepared = args
-        .solve
-        .preparation
-        .load(args.mesh.as_deref(), args.quiet)?;
-    let reference = args
-        .reference
-        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let (prepared, reference) = args.reference.load_with_mesh(
+        &args.solve.preparation,
+        args.mesh.as_deref(),
+        options.operator,
+        args.quiet,
+    )?;
     let PreparedMesh { mesh, name, .. } = prepared;
 
     let fields = match shading {

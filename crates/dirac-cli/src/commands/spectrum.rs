@@ -41,14 +41,12 @@ pub struct SpectrumArgs {
 pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let start = Instant::now();
-    args.reference.check(options.operator)?;
-    let prepared = args
-        .solve
-        .preparation
-        .load(args.mesh.as_deref(), args.quiet)?;
-    let reference = args
-        .reference
-        .load(&args.solve.preparation, &prepared, args.quiet)?;
+    let (prepared, reference) = args.reference.load_with_mesh(
+        &args.solve.preparation,
+        args.mesh.as_deref(),
+        options.operator,
+        args.quiet,
+    )?;
     let PreparedMesh {
         mesh,
         name,

@@ -1,7 +1,7 @@
 //! `--relative-to B`: the second surface `f2` of the relative Dirac operator `D_{f1,f2}`
 //! (paper §4, Fig. 3), for the commands that solve one mesh.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use clap::error::ErrorKind;
@@ -24,7 +24,7 @@ pub struct ReferenceArgs {
 impl ReferenceArgs {
     /// A usage error (before anything is read) when `--relative-to` is given with an operator
     /// that does not use the Gauss map.
-    pub fn check(&self, operator: Operator) -> Result<(), CliError> {
+    fn check(&self, operator: Operator) -> Result<(), CliError> {
         if self.relative_to.is_some() && !operator.uses_gauss_map() {
             return Err(CliError::usage(
                 ErrorKind::ArgumentConflict,
@@ -37,9 +37,25 @@ impl ReferenceArgs {
         Ok(())
     }
 
+    /// The mesh at `path` (or the built-in one) prepared by `preparation`, and the reference
+    /// surface prepared alike and checked to be its triangulation (`None` without
+    /// `--relative-to`); first a usage error if `operator` does not use the Gauss map.
+    pub fn load_with_mesh(
+        &self,
+        preparation: &MeshPreparation,
+        path: Option<&Path>,
+        operator: Operator,
+        quiet: bool,
+    ) -> Result<(PreparedMesh, Option<TriMesh>), CliError> {
+        self.check(operator)?;
+        let mesh = preparation.load(path, quiet)?;
+        let reference = self.load(preparation, &mesh, quiet)?;
+        Ok((mesh, reference))
+    }
+
     /// The reference surface, prepared like `mesh` and checked to be its triangulation; `None`
     /// without `--relative-to`.
-    pub fn load(
+    fn load(
         &self,
         preparation: &MeshPreparation,
         mesh: &PreparedMesh,
