@@ -58,14 +58,21 @@ fn run(u: &mut Unstructured) -> Result<()> {
     };
     let mesh = &repaired.mesh;
     let again = TriMesh::new(mesh.positions().to_vec(), mesh.faces().to_vec());
-    assert!(again.is_ok(), "the repaired mesh does not validate: {again:?}");
+    assert!(
+        again.is_ok(),
+        "the repaired mesh does not validate: {again:?}"
+    );
     let raw = RawMesh {
         positions: mesh.positions().to_vec(),
         faces: mesh.faces().to_vec(),
     };
     match repair(raw, &options) {
         Ok(twice) => {
-            assert!(twice.report.is_empty(), "repairing again reported:\n{}", twice.report);
+            assert!(
+                twice.report.is_empty(),
+                "repairing again reported:\n{}",
+                twice.report
+            );
             assert_eq!(&twice.mesh, mesh);
         }
         Err(error) => panic!("repairing a repaired mesh failed: {error}"),
