@@ -22,6 +22,7 @@ use crate::common::error::CliError;
 use crate::common::files::{has_extension, tell};
 use crate::common::parsers::{parse_size, positive_count};
 use crate::common::preparation::{PreparationReport, PreparedMesh};
+use crate::common::report::RunSettings;
 use crate::common::solve::solve;
 use crate::common::solve_args::SolveArgs;
 
@@ -172,10 +173,10 @@ fn consensus_options(args: &SegmentArgs) -> Result<ConsensusOptions, CliError> {
 #[derive(Debug, Serialize)]
 struct Summary<'a> {
     mesh: &'a str,
-    /// The operator's name and `τ` of the family (`null` otherwise), as `dirac spectrum`.
-    operator: String,
-    tau: Option<f64>,
-    k: usize,
+    /// The operator and solver options, under the keys of `dirac spectrum --json` (`seed`
+    /// is also the k-means trials' seed).
+    #[serde(flatten)]
+    settings: RunSettings,
     faces: usize,
     segments: usize,
     /// Area of every segment, and as a fraction of the surface.
@@ -191,7 +192,6 @@ struct Summary<'a> {
     min_clusters: usize,
     max_clusters: usize,
     min_area: f64,
-    seed: u64,
     out: String,
     preparation: &'a PreparationReport,
 }
@@ -262,9 +262,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), CliError> {
         let total: f64 = segmentation.areas.iter().sum();
         let summary = Summary {
             mesh: &name,
-            operator: args.solve.operator.name().to_string(),
-            tau: args.solve.operator.tau(),
-            k: options.k,
+            settings: RunSettings::new(&args.solve, &options),
             faces: mesh.face_count(),
             segments: s,
             areas: segmentation.areas.clone(),
@@ -278,7 +276,6 @@ pub fn run(args: &SegmentArgs) -> Result<(), CliError> {
             min_clusters: consensus.min_clusters,
             max_clusters: consensus.max_clusters,
             min_area: consensus.min_area_fraction,
-            seed: consensus.seed,
             out: args.out.display().to_string(),
             preparation: &report,
         };
