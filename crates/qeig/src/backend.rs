@@ -32,6 +32,7 @@ use qscalar::Scalar;
 use qsparse::embedding::{complex_adjoint_vector, from_complex_adjoint_vector};
 use qsparse::{SparseCholesky, SparseMatrix, vector};
 
+use crate::error::EmbeddedFactorizationError;
 use crate::{EigError, HermitianOperator};
 
 /// A representation of Hermitian-definite pencils over `T`.
@@ -257,29 +258,26 @@ impl<E> std::fmt::Debug for FaerCholesky<E> {
 impl<E: ComplexField + Scalar<Real = f64>> FaerCholesky<E> {
     /// Symbolic analysis (AMD, forced supernodal) and numeric `LLᴴ` of `s` (lower triangle
     /// read), sequential.
-    pub fn factorize(s: &SparseColMat<usize, E>) -> Result<Self, String> {
+    pub fn factorize(s: &SparseColMat<usize, E>) -> Result<Self, EmbeddedFactorizationError> {
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
         let symbolic =
-            factorize_symbolic_cholesky(s.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)
-                .map_err(|e| format!("{e:?}"))?;
+            factorize_symbolic_cholesky(s.symbolic(), Side::Lower, SymmetricOrdering::Amd, params)?;
         let mut values = vec![E::default(); symbolic.len_val()];
         let mut mem = MemBuffer::new(
             symbolic.factorize_numeric_llt_scratch::<E>(Par::Seq, Default::default()),
         );
-        symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                s.as_ref(),
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .map_err(|e| format!("{e:?}"))?;
+        symbolic.factorize_numeric_llt(
+            &mut values,
+            s.as_ref(),
+            Side::Lower,
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut mem),
+            Default::default(),
+        )?;
         let n = s.nrows();
         let perm = match symbolic.perm() {
             Some(p) => p.arrays().0.to_vec(),

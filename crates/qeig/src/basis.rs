@@ -13,12 +13,15 @@
 //! the real outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, and `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`; both are
 //! pure multiply-adds over independent lanes.
 
-use std::marker::PhantomData;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
-use faer::MatRef;
+use faer::linalg::matmul::matmul;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 use qscalar::Scalar;
 use qsparse::vector;
+
+use crate::memory::{self, BasisTooLarge};
 
 /// `n`-vectors stored contiguously column after column.
 #[derive(Debug, Clone)]
@@ -43,7 +46,13 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         &self.data[i * self.n..(i + 1) * self.n]
     }
 
+    /// Appends a column (growing the storage by one column beyond what
+    /// [`Basis::reserve_columns`] reserved, never by doubling: a doubled Krylov basis would not
+    /// fit where the reserved one does).
     pub(crate) fn push(&mut self, v: &[V]) {
+        if self.data.len() + self.n > self.data.capacity() {
+            self.data.reserve_exact(self.n);
+        }
         self.data.extend_from_slice(v);
     }
 
@@ -51,23 +60,121 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         self.data.truncate(cols * self.n);
     }
 
-    /// Columns `start..start + count` as a real `(R n) × count` matrix.
-    pub(crate) fn reals(&self, start: usize, count: usize) -> MatRef<'_, f64> {
-        let slice = &self.data[start * self.n..(start + count) * self.n];
-        MatRef::from_column_major_slice(V::as_reals(slice), V::REAL_DIM * self.n, count)
+    /// Reserves room for `columns` columns in all, after checking that they fit in
+    /// `limit` bytes (the memory available to the process when `None`).
+    pub(crate) fn reserve_columns(
+        &mut self,
+        columns: usize,
+        limit: Option<u64>,
+    ) -> Result<(), BasisTooLarge> {
+        let entries = columns.saturating_mul(self.n);
+        let too_large = || BasisTooLarge {
+            vectors: columns,
+            dimension: self.n,
+            bytes_per_entry: std::mem::size_of::<V>(),
+            bytes_available: limit.or_else(memory::available_bytes),
+        };
+        let bytes = (entries as u64).saturating_mul(std::mem::size_of::<V>() as u64);
+        if limit
+            .or_else(memory::available_bytes)
+            .is_some_and(|a| bytes > a)
+        {
+            return Err(too_large());
+        }
+        let additional = entries.saturating_sub(self.data.len());
+        self.data
+            .try_reserve_exact(additional)
+            .map_err(|_| too_large())
     }
-}
 
-/// The Gram–Schmidt passes (no workspace: the kernels allocate nothing).
-#[derive(Debug)]
-pub(crate) struct GramSchmidt<V>(PhantomData<V>);
-
-impl<V: Scalar<Real = f64>> GramSchmidt<V> {
-    pub(crate) fn new() -> Self {
-        Self(PhantomData)
+    /// Columns `start..start + count` as a mutable real `(R n) × count` matrix.
+    fn reals_mut(&mut self, start: usize, count: usize) -> MatMut<'_, f64> {
+        let slice = &mut self.data[start * self.n..(start + count) * self.n];
+        MatMut::from_column_major_slice_mut(V::as_reals_mut(slice), V::REAL_DIM * self.n, count)
     }
 
-    /// One modified Gram–Schmidt pass against columns `0..m` of `basis` (orthonormal):
+    /// Replaces columns `start..start + y.ncols()` by `Q Y`, where `Q` is columns
+    /// `start..start + y.nrows()` and `Y` is real (Ritz vectors of a restart), in place.
+    ///
+    /// A real `Y` acts on every real row of `Q` separately, so `Q` is transformed one block of
+    /// rows at a time through a small buffer: the basis is read once and written once, and no
+    /// second `n × ncols` block is needed (at a million vertices it would be gigabytes).
+    /// Long products run on two threads, each on half of the rows.
+    pub(crate) fn combine_in_place(&mut self, start: usize, y: MatRef<'_, f64>) {
+        let flops = V::REAL_DIM * self.n * y.nrows() * y.ncols();
+        let two_threads =
+            flops >= PARALLEL_RITZ_FLOPS && qsparse::threads::second_thread_allowed();
+        self.combine_in_place_on(start, y, two_threads);
+    }
+
+    /// [`Basis::combine_in_place`], on two threads if `two_threads`.
+    fn combine_in_place_on(&mut self, start: usize, y: MatRef<'_, f64>, two_threads: bool) {
+        let rows = V::REAL_DIM * self.n;
+        let q = self.reals_mut(start, y.nrows());
+        if two_threads {
+            let (top, bottom) = q.split_at_row_mut(rows / 2);
+            std::thread::scope(|scope| {
+                scope.spawn(|| combine_rows(bottom, y));
+                combine_rows(top, y);
+            });
+        } else {
+            combine_rows(q, y);
+        }
+    }
+
+    /// Reorders columns in place so that column `start + t` holds the former column
+    /// `start + order[t]` (`order` distinct); the columns after `start + order.len()` keep
+    /// the others in some order.
+    pub(crate) fn select_columns(&mut self, start: usize, order: &[usize]) {
+        let span = order
+            .iter()
+            .map(|&c| c + 1)
+            .max()
+            .unwrap_or(0)
+            .max(order.len());
+        // `position[c]`: where the former column `c` is now; `occupant[p]`: whose column `p` holds.
+        let mut position: Vec<usize> = (0..span).collect();
+        let mut occupant = position.clone();
+        for (t, &c) in order.iter().enumerate() {
+            let p = position[c];
+            if p != t {
+                self.swap_columns(start + t, start + p);
+                let displaced = occupant[t];
+                occupant.swap(t, p);
+                position[c] = t;
+                position[displaced] = p;
+            }
+        }
+    }
+
+    fn swap_columns(&mut self, a: usize, b: usize) {
+        let (low, high) = (a.min(b), a.max(b));
+        let n = self.n;
+        let (head, tail) = self.data.split_at_mut(high * n);
+        head[low * n..(low + 1) * n].swap_with_slice(&mut tail[..n]);
+    }
+
+    /// Columns `start..` as separate vectors (the others dropped), freeing the basis's memory as
+    /// they are taken: at no time is more than one column held twice.
+    pub(crate) fn into_columns(mut self, start: usize) -> Vec<Vec<V>> {
+        let mut columns = Vec::with_capacity(self.cols().saturating_sub(start));
+        while self.cols() > start {
+            let last = self.cols() - 1;
+            columns.push(self.col(last).to_vec());
+            self.truncate(last);
+            self.data.shrink_to_fit();
+        }
+        columns.reverse();
+        columns
+    }
+
+    /// Copies column `from` over column `to`.
+    pub(crate) fn copy_column(&mut self, from: usize, to: usize) {
+        let n = self.n;
+        self.data.copy_within(from * n..(from + 1) * n, to * n);
+    }
+
+    /// One modified Gram–Schmidt pass against columns `0..m` (orthonormal):
     /// `w ← w − vᵢ ⟨vᵢ, w⟩` for `i = 0 … m−1` in turn, adding the coefficients to `coef[i]`.
     ///
     /// Column by column, each update `w −= vᵢ cᵢ` fused with the next coefficient
@@ -79,28 +186,22 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
     /// column the two partial coefficients are exchanged through [`Exchange`] and added in a
     /// fixed order (first half, then second), so that both threads use the same coefficient
     /// and the result does not depend on timing.
-    fn pass(&self, basis: &Basis<V>, m: usize, w: &mut [V], coef: &mut [V]) {
+    fn pass(&self, m: usize, w: &mut [V], coef: &mut [V]) {
         let two_threads =
             w.len() * V::REAL_DIM >= PARALLEL_REALS && qsparse::threads::second_thread_allowed();
-        pass(basis, m, w, coef, two_threads);
+        pass(self, m, w, coef, two_threads);
     }
 
-    /// Orthogonalises `w` against columns `0..m` of `basis`, with a second pass when the first
-    /// one removed more than `1 − 1/√2` of the norm ("twice is enough", Daniel–Gragg–Kaufman–
+    /// Orthogonalises `w` against columns `0..m`, with a second pass when the first one
+    /// removed more than `1 − 1/√2` of the norm ("twice is enough", Daniel–Gragg–Kaufman–
     /// Stewart). `coef[..m]` receives the total coefficients. Returns `‖w‖` before and after.
-    pub(crate) fn orthogonalize(
-        &mut self,
-        basis: &Basis<V>,
-        m: usize,
-        w: &mut [V],
-        coef: &mut Vec<V>,
-    ) -> (f64, f64) {
+    pub(crate) fn orthogonalize(&self, m: usize, w: &mut [V], coef: &mut Vec<V>) -> (f64, f64) {
         coef.clear();
         coef.resize(m, V::zero());
         let before = vector::norm(w);
         let mut last = before;
         for _ in 0..3 {
-            self.pass(basis, m, w, coef);
+            self.pass(m, w, coef);
             let now = vector::norm(w);
             let stop = now > std::f64::consts::FRAC_1_SQRT_2 * last;
             last = now;
@@ -109,6 +210,40 @@ impl<V: Scalar<Real = f64>> GramSchmidt<V> {
             }
         }
         (before, last)
+    }
+
+    /// Appends the normalised component of `v` orthogonal to all columns, if that component
+    /// is not negligible (`‖v⊥‖ > 1e−8 ‖v‖`); returns whether it was appended.
+    pub(crate) fn append_orthonormal(&mut self, v: &mut [V], coef: &mut Vec<V>) -> bool {
+        let (before, after) = self.orthogonalize(self.cols(), v, coef);
+        if after.is_nan() || after <= 1e-8 * before || after == 0.0 {
+            return false;
+        }
+        vector::scale(v, 1.0 / after);
+        self.push(v);
+        true
+    }
+}
+
+/// Multiply-adds from which the Ritz vectors `Q Y` of a restart are computed on two threads.
+const PARALLEL_RITZ_FLOPS: usize = 1 << 24;
+
+/// Real rows of `Q` transformed per block by [`Basis::combine_in_place`]: the block of `Q`
+/// (`ROW_BLOCK × size` reals) and its product stay in the second-level cache.
+const ROW_BLOCK: usize = 128;
+
+/// `Q[:, ..count] ← Q Y` block of rows by block of rows (`count = Y.ncols() ≤ Q.ncols()`).
+fn combine_rows(mut q: MatMut<'_, f64>, y: MatRef<'_, f64>) {
+    let count = y.ncols();
+    let mut product = Mat::<f64>::zeros(ROW_BLOCK, count);
+    let mut row = 0;
+    while row < q.nrows() {
+        let rows = ROW_BLOCK.min(q.nrows() - row);
+        let mut block = q.rb_mut().subrows_mut(row, rows);
+        let mut out = product.as_mut().subrows_mut(0, rows);
+        matmul(out.rb_mut(), Accum::Replace, block.rb(), y, 1.0, Par::Seq);
+        block.rb_mut().subcols_mut(0, count).copy_from(out.rb());
+        row += rows;
     }
 }
 
@@ -167,7 +302,7 @@ impl Exchange {
     }
 }
 
-/// [`GramSchmidt::pass`], on two threads if `two_threads`.
+/// [`Basis::pass`], on two threads if `two_threads`.
 fn pass<V: Scalar<Real = f64>>(
     basis: &Basis<V>,
     m: usize,
@@ -249,23 +384,6 @@ fn update_then_inner<V: Scalar<Real = f64>>(w: &mut [V], v: &[V], c: V, next: Op
     }
 }
 
-/// Appends to `basis` the normalised component of `v` orthogonal to all its columns, if that
-/// component is not negligible (`‖v⊥‖ > 1e−8 ‖v‖`); returns whether it was appended.
-pub(crate) fn append_orthonormal<V: Scalar<Real = f64>>(
-    basis: &mut Basis<V>,
-    gs: &mut GramSchmidt<V>,
-    v: &mut [V],
-    coef: &mut Vec<V>,
-) -> bool {
-    let (before, after) = gs.orthogonalize(basis, basis.cols(), v, coef);
-    if after.is_nan() || after <= 1e-8 * before || after == 0.0 {
-        return false;
-    }
-    vector::scale(v, 1.0 / after);
-    basis.push(v);
-    true
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -308,12 +426,11 @@ mod tests {
         let n = PARALLEL_REALS / V::REAL_DIM + 3;
         let mut rng = qscalar::random::SplitMix64::new(5);
         let mut basis = Basis::<V>::new(n);
-        let mut gs = GramSchmidt::new();
         let mut coef = Vec::new();
         for _ in 0..5 {
             let mut v = vec![V::zero(); n];
             rng.fill_symmetric(&mut v);
-            assert!(append_orthonormal(&mut basis, &mut gs, &mut v, &mut coef));
+            assert!(basis.append_orthonormal(&mut v, &mut coef));
         }
         let mut w = vec![V::zero(); n];
         rng.fill_symmetric(&mut w);
@@ -344,12 +461,11 @@ mod tests {
         let n = 37;
         let mut rng = qscalar::random::SplitMix64::new(3);
         let mut basis = Basis::<Quat<f64>>::new(n);
-        let mut gs = GramSchmidt::new();
         let mut coef = Vec::new();
         for _ in 0..6 {
             let mut v = vec![Quat::from_real(0.0); n];
             rng.fill_symmetric(&mut v);
-            assert!(append_orthonormal(&mut basis, &mut gs, &mut v, &mut coef));
+            assert!(basis.append_orthonormal(&mut v, &mut coef));
         }
         for a in 0..6 {
             for b in 0..6 {
@@ -358,5 +474,90 @@ mod tests {
                 assert!((g - Quat::from_real(expected)).abs() < 1e-13);
             }
         }
+    }
+
+    /// A random basis of `cols` quaternion columns of length `n` (not orthonormal).
+    fn random_basis(n: usize, cols: usize, seed: u64) -> Basis<Quat<f64>> {
+        let mut rng = qscalar::random::SplitMix64::new(seed);
+        let mut basis = Basis::new(n);
+        for _ in 0..cols {
+            let mut v = vec![Quat::from_real(0.0); n];
+            rng.fill_symmetric(&mut v);
+            basis.push(&v);
+        }
+        basis
+    }
+
+    /// `Q Y` in place equals the product computed column by column with `axpy`, on one and
+    /// on two threads, for row counts that are not multiples of the row block.
+    #[test]
+    fn combine_in_place_is_the_product() {
+        for (n, threads) in [(37, false), (ROW_BLOCK + 5, false), (3000, true)] {
+            let (start, size, count) = (2, 7, 4);
+            let mut basis = random_basis(n, start + size + 1, 11);
+            let y = Mat::<f64>::from_fn(size, count, |r, c| ((r * 7 + c * 3) % 5) as f64 - 1.5);
+            let expected: Vec<Vec<Quat<f64>>> = (0..count)
+                .map(|c| {
+                    let mut x = vec![Quat::from_real(0.0); n];
+                    for r in 0..size {
+                        vector::axpy(&mut x, basis.col(start + r), Quat::from_real(y[(r, c)]));
+                    }
+                    x
+                })
+                .collect();
+            let untouched = (basis.col(0).to_vec(), basis.col(start + size).to_vec());
+            basis.combine_in_place_on(start, y.as_ref(), threads);
+            for (c, x) in expected.iter().enumerate() {
+                for (a, b) in basis.col(start + c).iter().zip(x) {
+                    assert!((*a - *b).abs() < 1e-12, "column {c} differs (n = {n})");
+                }
+            }
+            assert_eq!(basis.col(0), &untouched.0[..]);
+            assert_eq!(basis.col(start + size), &untouched.1[..]);
+        }
+    }
+
+    /// Selecting columns in any order (a permutation with swaps and cycles) moves exactly
+    /// the selected columns to the front.
+    #[test]
+    fn select_columns_moves_the_selected_to_the_front() {
+        let n = 5;
+        for order in [
+            vec![0, 2, 1, 3],
+            vec![3, 0, 1],
+            vec![4, 3, 2, 1, 0],
+            vec![1, 4],
+            vec![],
+        ] {
+            let mut basis = random_basis(n, 7, 3);
+            let before: Vec<Vec<Quat<f64>>> = (0..7).map(|c| basis.col(c).to_vec()).collect();
+            basis.select_columns(1, &order);
+            assert_eq!(basis.col(0), &before[0][..]);
+            for (t, &c) in order.iter().enumerate() {
+                assert_eq!(basis.col(1 + t), &before[1 + c][..], "order {order:?}");
+            }
+            let mut rest: Vec<&[Quat<f64>]> = (1 + order.len()..7).map(|c| basis.col(c)).collect();
+            let mut expected_rest: Vec<&[Quat<f64>]> = (0..6)
+                .filter(|c| !order.contains(c))
+                .map(|c| &before[1 + c][..])
+                .collect();
+            let key = |v: &&[Quat<f64>]| v[0].re().to_bits();
+            rest.sort_by_key(key);
+            expected_rest.sort_by_key(key);
+            assert_eq!(rest, expected_rest, "order {order:?}");
+        }
+    }
+
+    /// A basis that does not fit in the memory limit is refused before anything is
+    /// allocated, with its size in the error.
+    #[test]
+    fn reserve_refuses_what_does_not_fit() {
+        let mut basis = Basis::<Quat<f64>>::new(1000);
+        let error = basis.reserve_columns(100, Some(1 << 20)).unwrap_err();
+        assert_eq!(error.bytes_needed(), 100 * 1000 * 32);
+        assert_eq!(error.bytes_available, Some(1 << 20));
+        assert_eq!(basis.data.capacity(), 0);
+        basis.reserve_columns(10, Some(1 << 20)).unwrap();
+        assert!(basis.data.capacity() >= 10 * 1000);
     }
 }

@@ -24,6 +24,7 @@ use qsparse::DenseMatrix;
 use qsparse::vector;
 
 use crate::EigError;
+use crate::error::{DenseEigenError, EmbeddedFactorizationError};
 
 /// Eigenvalues (ascending) and eigenvectors (columns) of a dense Hermitian matrix or pencil.
 #[derive(Debug, Clone)]
@@ -37,7 +38,9 @@ pub struct DenseEigen<T> {
 
 /// Eigenvalues (ascending) and eigenvectors (columns of the returned matrix) of a real
 /// symmetric matrix, of which only the lower triangle is read. Runs sequentially.
-pub(crate) fn real_symmetric_eigen(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), String> {
+pub(crate) fn real_symmetric_eigen(
+    a: MatRef<'_, f64>,
+) -> Result<(Vec<f64>, Mat<f64>), DenseEigenError> {
     let n = a.nrows();
     if n == 0 {
         return Ok((Vec::new(), Mat::zeros(0, 0)));
@@ -58,7 +61,7 @@ pub(crate) fn real_symmetric_eigen(a: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<
         MemStack::new(&mut mem),
         Default::default(),
     )
-    .map_err(|e| format!("{e:?}"))?;
+    .map_err(|_| DenseEigenError { order: n })?;
     Ok(((0..n).map(|i| s[i]).collect(), u))
 }
 
@@ -152,7 +155,7 @@ pub fn hermitian_eigen<T: Scalar<Real = f64>>(
             d[i + 1] = (sub[i] * d[i]).scale(1.0 / t);
         }
     }
-    let (values, z) = real_symmetric_eigen(tri.as_ref()).map_err(EigError::DenseEigen)?;
+    let (values, z) = real_symmetric_eigen(tri.as_ref())?;
     let mut x = DenseMatrix::from_fn(n, n, |i, j| d[i].scale(z[(i, j)]));
     for (k, (v, tau)) in reflectors.iter().enumerate().rev() {
         if *tau == 0.0 {
@@ -191,10 +194,12 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
         .iter()
         .position(|&l| l.is_nan() || l <= 1e-14 * scale)
     {
-        return Err(EigError::EmbeddedFactorization(format!(
-            "S is not positive definite: eigenvalue {} of a dense S is {:e}",
-            i, es.values[i]
-        )));
+        return Err(EigError::EmbeddedFactorization(
+            EmbeddedFactorizationError::NonPositiveEigenvalue {
+                index: i,
+                value: es.values[i],
+            },
+        ));
     }
     let n = s.nrows();
     let w = DenseMatrix::from_fn(n, n, |i, j| {

@@ -4,6 +4,7 @@ use qsparse::CholeskyError;
 use thiserror::Error;
 
 use crate::Eigen;
+pub use crate::memory::BasisTooLarge;
 
 /// Errors of the sparse and dense eigensolvers.
 #[derive(Debug, Clone, Error)]
@@ -49,10 +50,13 @@ pub enum EigError<T> {
     /// faer's Cholesky of the embedded `S` failed (embedded backends), or a dense `S` is not
     /// positive definite.
     #[error("factorisation of S failed: {0}")]
-    EmbeddedFactorization(String),
+    EmbeddedFactorization(#[source] EmbeddedFactorizationError),
     /// faer's dense self-adjoint eigensolver reported a failure.
     #[error("dense eigensolver failed: {0}")]
-    DenseEigen(String),
+    DenseEigen(#[from] DenseEigenError),
+    /// The Krylov basis would not fit in memory; nothing was allocated for it.
+    #[error(transparent)]
+    BasisTooLarge(#[from] BasisTooLarge),
     /// The iteration stopped (restart, operator-application or dimension limit) before the
     /// wanted pairs converged. `partial` holds the pairs that did converge, in the same
     /// order and normalisation as a successful result, and the statistics of the run.
@@ -63,4 +67,59 @@ pub enum EigError<T> {
         /// Converged pairs and statistics.
         partial: Box<Eigen<T>>,
     },
+}
+
+/// Why a factorisation of `S` by faer (the embedded backends, a dense pencil) failed.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[non_exhaustive]
+pub enum EmbeddedFactorizationError {
+    /// A pivot was not positive: `S` is not (numerically) positive definite. The index is the
+    /// pivot's position in faer's elimination order of the embedded matrix.
+    #[error("S is not positive definite (pivot {index} of the embedded factorisation)")]
+    NotPositiveDefinite {
+        /// Pivot position.
+        index: usize,
+    },
+    /// A dense `S` has an eigenvalue that is not positive (relative to its largest, `1e−14`).
+    #[error("S is not positive definite: its eigenvalue number {index} is {value:e}")]
+    NonPositiveEigenvalue {
+        /// Position of the eigenvalue in ascending order.
+        index: usize,
+        /// The eigenvalue.
+        value: f64,
+    },
+    /// The factor's pattern does not fit in faer's index type.
+    #[error("the factor is too large for faer's index type")]
+    IndexOverflow,
+    /// faer could not allocate the factor.
+    #[error("out of memory while factorising")]
+    OutOfMemory,
+}
+
+impl From<faer::sparse::FaerError> for EmbeddedFactorizationError {
+    fn from(e: faer::sparse::FaerError) -> Self {
+        match e {
+            faer::sparse::FaerError::IndexOverflow => Self::IndexOverflow,
+            _ => Self::OutOfMemory,
+        }
+    }
+}
+
+impl From<faer::linalg::cholesky::llt::factor::LltError> for EmbeddedFactorizationError {
+    fn from(e: faer::linalg::cholesky::llt::factor::LltError) -> Self {
+        match e {
+            faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
+                Self::NotPositiveDefinite { index }
+            }
+        }
+    }
+}
+
+/// faer's dense self-adjoint eigensolver (of the projected matrix, or of a dense problem)
+/// did not converge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[error("the dense self-adjoint eigensolver did not converge on a matrix of order {order}")]
+pub struct DenseEigenError {
+    /// Order of the matrix.
+    pub order: usize,
 }

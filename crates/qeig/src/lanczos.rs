@@ -50,15 +50,14 @@
 
 use std::time::{Duration, Instant};
 
-use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatMut, Par};
+use faer::Mat;
 use qscalar::Scalar;
+use qscalar::random::SplitMix64;
 use qsparse::vector;
 
-use qscalar::random::SplitMix64;
-
-use crate::basis::{Basis, GramSchmidt, append_orthonormal};
+use crate::basis::Basis;
 use crate::dense::real_symmetric_eigen;
+use crate::error::{BasisTooLarge, DenseEigenError};
 use crate::{EigError, Eigen, Progress, ProgressCallback, Statistics};
 
 /// Which end(s) of the spectrum are wanted.
@@ -106,11 +105,17 @@ pub struct LanczosOptions {
     pub max_operator_applications: usize,
     /// Seed of the random start vectors (runs are deterministic for a given seed).
     pub seed: u64,
+    /// Largest memory, in bytes, the Krylov basis may take (`None`: what the system reports
+    /// as available). The basis — constraints, `k` locked pairs, the active basis and one
+    /// continuation vector — is reserved before the iteration starts; a basis that does not
+    /// fit is refused then with [`crate::EigError::BasisTooLarge`], which says how much it
+    /// needs.
+    pub memory_limit: Option<u64>,
 }
 
 impl LanczosOptions {
     /// `k` pairs of the given end with tolerance `1e−10`, automatic dimension, 1000 restarts,
-    /// no limit on operator applications, seed 0.
+    /// no limit on operator applications, seed 0, the basis limited by the available memory.
     pub fn new(k: usize, which: Which) -> Self {
         Self {
             k,
@@ -120,6 +125,7 @@ impl LanczosOptions {
             max_restarts: 1000,
             max_operator_applications: usize::MAX,
             seed: 0,
+            memory_limit: None,
         }
     }
 }
@@ -150,8 +156,6 @@ pub(crate) struct Outcome<V> {
 
 /// Steps between early convergence checks.
 const CHECK_INTERVAL: usize = 10;
-/// Multiply-adds from which the Ritz vectors `Q Y` of a restart are computed on all cores.
-const PARALLEL_RITZ_FLOPS: usize = 1 << 24;
 
 /// Rounding level of an estimated residual relative to `‖A‖`: a Ritz pair with
 /// `|βₘ yₘ| ≤ ROUNDING ‖A‖` is an eigenpair of the computed operator up to the rounding errors
@@ -174,60 +178,477 @@ fn kth_best(which: Which, values: &[f64], k: usize) -> Option<f64> {
     Some(s[k - 1])
 }
 
+/// The eigenpairs `(θᵢ, yᵢ)` of the projected matrix, with the residual estimates
+/// `|β yᵢ,ₘ|` of the Ritz pairs they define.
 struct RitzPairs {
     theta: Vec<f64>,
     y: Mat<f64>,
     estimate: Vec<f64>,
     /// Indices by decreasing wantedness.
     order: Vec<usize>,
+    /// The coupling `β` of the continuation vector (0 after an invariant subspace).
+    beta: f64,
 }
 
-fn ritz(h: &Mat<f64>, size: usize, beta: f64, which: Which) -> Result<RitzPairs, String> {
-    let (theta, y) = real_symmetric_eigen(h.as_ref().submatrix(0, 0, size, size))?;
-    let estimate = (0..size).map(|i| (beta * y[(size - 1, i)]).abs()).collect();
-    let mut order: Vec<usize> = (0..size).collect();
-    order.sort_by(|&a, &b| which.score(theta[b]).total_cmp(&which.score(theta[a])));
-    Ok(RitzPairs {
-        theta,
-        y,
-        estimate,
-        order,
-    })
+impl RitzPairs {
+    /// The indices of `order` not in `excluded`, in order.
+    fn others(&self, excluded: &[usize]) -> Vec<usize> {
+        (self.order.iter().copied())
+            .filter(|i| !excluded.contains(i))
+            .collect()
+    }
 }
 
-/// Whether the round can end: `k` pairs locked, and at every wanted end the extreme Ritz value
-/// not chosen for locking is known not to enter the window.
-fn round_finished(
-    which: Which,
-    tol: f64,
-    locked: &[f64],
+/// How an expansion of the active basis ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Expansion {
+    /// The active basis is full: restart.
+    Full,
+    /// `A` maps the basis into itself and no fresh direction is left: restart and end the round.
+    Invariant,
+    /// A periodic check point: restart only if the round turns out to be finished.
+    CheckPoint,
+}
+
+/// What comes after a restart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum AfterRestart {
+    /// The Krylov–Schur sequence continues from the residual vector.
+    Continue,
+    /// The round is finished; a new one may start.
+    RoundFinished,
+}
+
+/// A limit was reached or the progress callback asked to stop: the run ends unconverged.
+struct Stopped;
+
+/// The thick-restart Lanczos iteration (module documentation), as a state with one method
+/// per step: [`Lanczos::start_round`], [`Lanczos::expand`], [`Lanczos::ritz_pairs`],
+/// [`Lanczos::locking_candidates`], [`Lanczos::restart`].
+///
+/// The basis is laid out as `[deflation | locked | kept Ritz vectors | Krylov vectors]`:
+/// the *active* basis starts after the locked vectors, its first `kept` columns are the Ritz
+/// vectors kept at the last restart, and `h` is the projected matrix of the active basis
+/// (an arrowhead for the kept vectors, then tridiagonal).
+struct Lanczos<'a, 'p, V, O: ?Sized> {
+    op: &'a mut O,
+    options: &'a LanczosOptions,
+    progress: Option<ProgressCallback<'p>>,
+    /// Pairs wanted (iteration space).
     k: usize,
-    pairs: &RitzPairs,
-    remaining: &[usize],
-) -> bool {
-    let Some(kth) = kth_best(which, locked, k) else {
-        return false;
-    };
-    let clear = |i: usize| {
-        let (t, e) = (pairs.theta[i], pairs.estimate[i]);
-        let converged = e <= tol * t.abs() && !better(which, t, kth, tol);
-        let bound = match which {
-            Which::LargestMagnitude => t.abs() + e,
-            Which::LargestAlgebraic => t + e,
-            Which::SmallestAlgebraic => -(t - e),
+    n: usize,
+    /// Deflation columns in front of the basis.
+    deflation: usize,
+    /// Largest active dimension.
+    max_active: usize,
+    basis: Basis<V>,
+    rng: SplitMix64,
+    h: Mat<f64>,
+    /// The vector being expanded (`A qⱼ` and its orthogonalisation).
+    w: Vec<V>,
+    coef: Vec<V>,
+    /// Locked eigenvalues, in the order of their basis columns.
+    locked: Vec<f64>,
+    statistics: Statistics,
+    orthogonalization_time: Duration,
+    /// Largest |Ritz value| so far: a lower bound of ‖A‖ for the rounding level of estimates.
+    norm_estimate: f64,
+    /// Pairs of this round better than the `k`-th pair locked before them.
+    new_in_round: usize,
+    /// Active dimension of the current Krylov–Schur cycle.
+    active: usize,
+    /// Kept Ritz vectors in front of the active basis.
+    kept: usize,
+    /// Number of active columns expanded so far (the next one to expand).
+    expanded: usize,
+}
+
+impl<'a, 'p, V, O> Lanczos<'a, 'p, V, O>
+where
+    V: Scalar<Real = f64>,
+    O: HermitianOperator<V> + ?Sized,
+{
+    fn new(
+        op: &'a mut O,
+        options: &'a LanczosOptions,
+        k: usize,
+        mut basis: Basis<V>,
+        progress: Option<ProgressCallback<'p>>,
+    ) -> Result<Self, BasisTooLarge> {
+        let n = op.dim();
+        let deflation = basis.cols();
+        let max_active = if options.max_dim == 0 {
+            (2 * k).max(k + 32)
+        } else {
+            options.max_dim
+        }
+        .min(n - deflation)
+        .max(1);
+        // Deflation, k locked pairs, the active basis and its continuation vector.
+        let columns = (deflation + k + max_active + 1).min(n + 1);
+        basis.reserve_columns(columns, options.memory_limit)?;
+        Ok(Self {
+            op,
+            options,
+            progress,
+            k,
+            n,
+            deflation,
+            max_active,
+            basis,
+            rng: SplitMix64::new(options.seed),
+            h: Mat::zeros(max_active + 1, max_active + 1),
+            w: vec![V::zero(); n],
+            coef: Vec::new(),
+            locked: Vec::new(),
+            statistics: Statistics::default(),
+            orthogonalization_time: Duration::ZERO,
+            norm_estimate: 0.0,
+            new_in_round: 0,
+            active: 0,
+            kept: 0,
+            expanded: 0,
+        })
+    }
+
+    /// First column of the active basis.
+    fn base(&self) -> usize {
+        self.deflation + self.locked.len()
+    }
+
+    /// Starts a round from a fresh random vector orthogonal to the deflation and locked
+    /// vectors; `false` if there is no room or no such vector left.
+    fn start_round(&mut self) -> bool {
+        let base = self.base();
+        if base >= self.n {
+            return false;
+        }
+        self.statistics.rounds += 1;
+        self.basis.truncate(base);
+        self.rng.fill_symmetric(&mut self.w);
+        let t = Instant::now();
+        let started = self.basis.append_orthonormal(&mut self.w, &mut self.coef);
+        self.orthogonalization_time += t.elapsed();
+        self.active = self.max_active.min(self.n - base);
+        self.kept = 0;
+        self.expanded = 0;
+        self.new_in_round = 0;
+        self.h.fill(0.0);
+        started
+    }
+
+    /// Lanczos steps until the active basis is full, invariant, or at a check point.
+    fn expand(&mut self) -> Result<Expansion, Stopped> {
+        let base = self.base();
+        while self.expanded < self.active {
+            if self.statistics.operator_applications >= self.options.max_operator_applications {
+                return Err(Stopped);
+            }
+            let j = self.expanded;
+            self.op.apply(self.basis.col(base + j), &mut self.w);
+            self.statistics.operator_applications += 1;
+            self.statistics.iterations += 1;
+            let t = Instant::now();
+            let appended = self.orthogonalize_step(base, j);
+            self.orthogonalization_time += t.elapsed();
+            self.expanded += 1;
+            if !appended {
+                return Ok(Expansion::Invariant);
+            }
+            let since_restart = self.expanded - self.kept;
+            if since_restart.is_multiple_of(CHECK_INTERVAL)
+                && self.expanded < self.active
+                && self.locked.len() + self.expanded >= self.k
+            {
+                return Ok(Expansion::CheckPoint);
+            }
+        }
+        Ok(Expansion::Full)
+    }
+
+    /// Turns `w = A qⱼ` into the next basis vector: the three-term recurrence (after the kept
+    /// vectors' arrowhead), full Gram–Schmidt, the projected matrix's column `j`. Returns
+    /// whether a vector was appended (`false`: invariant subspace and no fresh direction).
+    fn orthogonalize_step(&mut self, base: usize, j: usize) -> bool {
+        let w = &mut self.w;
+        let raw = vector::norm(w);
+        let mut alpha = 0.0;
+        if j > self.kept {
+            let qj = self.basis.col(base + j);
+            alpha = vector::inner(qj, w).re();
+            vector::axpy(w, qj, V::from_real(-alpha));
+            let coupling = self.h[(j, j - 1)];
+            vector::axpy(w, self.basis.col(base + j - 1), V::from_real(-coupling));
+        }
+        self.basis.orthogonalize(base + j + 1, w, &mut self.coef);
+        self.h[(j, j)] = alpha + self.coef[base + j].re();
+        let beta = vector::norm(w);
+        if beta > 1e-12 * raw {
+            vector::scale(w, 1.0 / beta);
+            self.basis.push(w);
+            self.h[(j + 1, j)] = beta;
+            self.h[(j, j + 1)] = beta;
+            true
+        } else {
+            // Invariant subspace: continue from a fresh direction, decoupled.
+            self.rng.fill_symmetric(w);
+            self.basis.append_orthonormal(w, &mut self.coef)
+        }
+    }
+
+    /// The Ritz pairs of the expanded active basis.
+    fn ritz_pairs(&mut self, expansion: Expansion) -> Result<RitzPairs, DenseEigenError> {
+        let size = self.expanded;
+        let beta = match expansion {
+            Expansion::Invariant => 0.0,
+            _ => self.h[(size, size - 1)],
         };
-        converged || bound < which.score(kth)
-    };
-    let by_value = |a: &&usize, b: &&usize| pairs.theta[**a].total_cmp(&pairs.theta[**b]);
-    let (top, bottom) = (
-        remaining.iter().max_by(by_value),
-        remaining.iter().min_by(by_value),
-    );
-    match which {
-        Which::LargestAlgebraic => top.is_none_or(|&i| clear(i)),
-        Which::SmallestAlgebraic => bottom.is_none_or(|&i| clear(i)),
-        Which::LargestMagnitude => {
-            top.is_none_or(|&i| clear(i)) && bottom.is_none_or(|&i| clear(i))
+        let (theta, y) = real_symmetric_eigen(self.h.as_ref().submatrix(0, 0, size, size))?;
+        let estimate = (0..size).map(|i| (beta * y[(size - 1, i)]).abs()).collect();
+        let which = self.options.which;
+        let mut order: Vec<usize> = (0..size).collect();
+        order.sort_by(|&a, &b| which.score(theta[b]).total_cmp(&which.score(theta[a])));
+        self.norm_estimate = theta.iter().fold(self.norm_estimate, |a, t| a.max(t.abs()));
+        Ok(RitzPairs {
+            theta,
+            y,
+            estimate,
+            order,
+            beta,
+        })
+    }
+
+    /// Ritz pairs to try to lock, in order of wantedness: estimate below the tolerance and
+    /// not worse than the `k`-th of the locked values and the candidates before them.
+    fn locking_candidates(&self, pairs: &RitzPairs) -> (Vec<usize>, Vec<f64>) {
+        let (which, tol) = (self.options.which, self.options.tolerance);
+        let mut values = self.locked.clone();
+        let mut candidates = Vec::new();
+        for &i in &pairs.order {
+            let theta = pairs.theta[i];
+            if pairs.estimate[i] > tol * theta.abs() {
+                continue;
+            }
+            let wanted =
+                kth_best(which, &values, self.k).is_none_or(|kth| !better(which, kth, theta, tol));
+            if wanted {
+                candidates.push(i);
+                values.push(theta);
+            }
+        }
+        (candidates, values)
+    }
+
+    /// Whether the round can end: `k` values among `values` (locked, or locked and
+    /// candidates), and at every wanted end the extreme Ritz value among `remaining` is known
+    /// not to enter the window.
+    fn round_finished(&self, values: &[f64], pairs: &RitzPairs, remaining: &[usize]) -> bool {
+        let (which, tol) = (self.options.which, self.options.tolerance);
+        let Some(kth) = kth_best(which, values, self.k) else {
+            return false;
+        };
+        let clear = |i: usize| {
+            let (t, e) = (pairs.theta[i], pairs.estimate[i]);
+            let converged = e <= tol * t.abs() && !better(which, t, kth, tol);
+            let bound = match which {
+                Which::LargestMagnitude => t.abs() + e,
+                Which::LargestAlgebraic => t + e,
+                Which::SmallestAlgebraic => -(t - e),
+            };
+            converged || bound < which.score(kth)
+        };
+        let by_value = |a: &&usize, b: &&usize| pairs.theta[**a].total_cmp(&pairs.theta[**b]);
+        let top = remaining.iter().max_by(by_value);
+        let bottom = remaining.iter().min_by(by_value);
+        match which {
+            Which::LargestAlgebraic => top.is_none_or(|&i| clear(i)),
+            Which::SmallestAlgebraic => bottom.is_none_or(|&i| clear(i)),
+            Which::LargestMagnitude => {
+                top.is_none_or(|&i| clear(i)) && bottom.is_none_or(|&i| clear(i))
+            }
+        }
+    }
+
+    /// The thick restart: Ritz vectors of the candidates and of the best other pairs (in place
+    /// in the active basis), locking of the candidates whose true residual passes, and the new
+    /// layout `[deflation | locked | kept | continuation]`.
+    fn restart(
+        &mut self,
+        pairs: &RitzPairs,
+        candidates: &[usize],
+        expansion: Expansion,
+    ) -> Result<AfterRestart, Stopped> {
+        let (which, tol) = (self.options.which, self.options.tolerance);
+        let invariant = expansion == Expansion::Invariant;
+        let (base, size, m) = (self.base(), self.expanded, self.active);
+        self.statistics.restarts += 1;
+        let needed = self.k.saturating_sub(self.locked.len()).max(1);
+        let keep_max = if invariant {
+            0
+        } else {
+            (needed + (m - needed.min(m)) / 2).min(m - 1)
+        };
+        let keep_max = keep_max.min(size.saturating_sub(candidates.len()));
+        let mut selection = candidates.to_vec();
+        selection.extend(pairs.others(candidates).into_iter().take(keep_max));
+
+        let t = Instant::now();
+        let y = Mat::<f64>::from_fn(size, selection.len(), |r, c| pairs.y[(r, selection[c])]);
+        self.basis.combine_in_place(base, y.as_ref());
+        self.orthogonalization_time += t.elapsed();
+
+        let kth_before = kth_best(which, &self.locked, self.k);
+        let mut newly_locked = Vec::new();
+        for (c, &i) in selection.iter().enumerate().take(candidates.len()) {
+            let theta = pairs.theta[i];
+            let at_rounding_level = pairs.estimate[i] <= ROUNDING * self.norm_estimate;
+            let residual = self.op.relative_residual(self.basis.col(base + c), theta);
+            if residual <= tol || at_rounding_level {
+                newly_locked.push(c);
+                let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
+                self.new_in_round += usize::from(is_new);
+            }
+        }
+        self.locked
+            .extend(newly_locked.iter().map(|&c| pairs.theta[selection[c]]));
+        self.statistics.locked = self.locked.len();
+        let new_base = self.base();
+        let new_active = self.max_active.min(self.n - new_base);
+        let kept: Vec<usize> = (0..selection.len())
+            .filter(|c| !newly_locked.contains(c))
+            .take(keep_max.min(new_active.saturating_sub(1)))
+            .collect();
+        let layout: Vec<usize> = newly_locked.iter().chain(&kept).copied().collect();
+        let t = Instant::now();
+        self.basis.select_columns(base, &layout);
+        if !invariant {
+            self.basis.copy_column(base + size, base + layout.len());
+        }
+        self.basis
+            .truncate(base + layout.len() + usize::from(!invariant));
+        self.orthogonalization_time += t.elapsed();
+        self.report_progress()?;
+
+        let locked_now: Vec<usize> = newly_locked.iter().map(|&c| selection[c]).collect();
+        let unlocked = pairs.others(&locked_now);
+        if invariant || new_active == 0 || self.round_finished(&self.locked, pairs, &unlocked) {
+            return Ok(AfterRestart::RoundFinished);
+        }
+        if self.statistics.restarts >= self.options.max_restarts {
+            return Err(Stopped);
+        }
+        // Continue the Krylov–Schur sequence: A U = U Θ + q sᵀ with s = β (last row of Y).
+        self.h.fill(0.0);
+        let p = kept.len();
+        for (r, &c) in kept.iter().enumerate() {
+            let i = selection[c];
+            self.h[(r, r)] = pairs.theta[i];
+            let s = pairs.beta * pairs.y[(size - 1, i)];
+            self.h[(p, r)] = s;
+            self.h[(r, p)] = s;
+        }
+        self.kept = p;
+        self.expanded = p;
+        self.active = new_active;
+        Ok(AfterRestart::Continue)
+    }
+
+    /// Calls the progress callback; `Stopped` if it asks to stop.
+    fn report_progress(&mut self) -> Result<(), Stopped> {
+        let Some(callback) = self.progress.as_deref_mut() else {
+            return Ok(());
+        };
+        let report = Progress {
+            round: self.statistics.rounds,
+            restarts: self.statistics.restarts,
+            operator_applications: self.statistics.operator_applications,
+            locked: self.locked.len(),
+            wanted: self.k,
+        };
+        if callback(&report).is_break() {
+            return Err(Stopped);
+        }
+        Ok(())
+    }
+
+    /// One round: cycles of expansion and restart until the round is finished.
+    fn round(&mut self) -> Result<(), LanczosFailure> {
+        loop {
+            let expansion = self.expand()?;
+            let pairs = self.ritz_pairs(expansion)?;
+            let (candidates, values) = self.locking_candidates(&pairs);
+            if expansion == Expansion::CheckPoint
+                && !self.round_finished(&values, &pairs, &pairs.others(&candidates))
+            {
+                continue; // keep expanding
+            }
+            if self.restart(&pairs, &candidates, expansion)? == AfterRestart::RoundFinished {
+                return Ok(());
+            }
+        }
+    }
+
+    /// The locked pairs, best first.
+    fn finish(self, start: Instant, converged: bool) -> Outcome<V> {
+        let which = self.options.which;
+        let mut order: Vec<usize> = (0..self.locked.len()).collect();
+        order.sort_by(|&a, &b| {
+            which
+                .score(self.locked[b])
+                .total_cmp(&which.score(self.locked[a]))
+        });
+        let mut statistics = self.statistics;
+        (statistics.solves, statistics.solve_time) = self.op.solve_statistics();
+        statistics.orthogonalization_time = self.orthogonalization_time;
+        statistics.total_time = start.elapsed();
+        let converged = converged && self.locked.len() >= self.k;
+        let values = order.iter().map(|&i| self.locked[i]).collect();
+        let mut basis = self.basis;
+        basis.truncate(self.deflation + self.locked.len());
+        basis.select_columns(self.deflation, &order);
+        Outcome {
+            values,
+            vectors: basis.into_columns(self.deflation),
+            converged,
+            statistics,
+        }
+    }
+}
+
+/// Why a round ended the run early.
+enum LanczosFailure {
+    /// A limit or the callback: the run ends with what is locked.
+    Stopped,
+    /// The projected matrix's eigensolver failed.
+    DenseEigen(DenseEigenError),
+}
+
+impl From<Stopped> for LanczosFailure {
+    fn from(_: Stopped) -> Self {
+        Self::Stopped
+    }
+}
+
+impl From<DenseEigenError> for LanczosFailure {
+    fn from(e: DenseEigenError) -> Self {
+        Self::DenseEigen(e)
+    }
+}
+
+/// What stops [`run`] without a result.
+#[derive(Debug)]
+pub(crate) enum RunError {
+    /// The basis does not fit in memory.
+    BasisTooLarge(BasisTooLarge),
+    /// The projected matrix's eigensolver failed.
+    DenseEigen(DenseEigenError),
+}
+
+impl<T> From<RunError> for EigError<T> {
+    fn from(e: RunError) -> Self {
+        match e {
+            RunError::BasisTooLarge(e) => EigError::BasisTooLarge(e),
+            RunError::DenseEigen(e) => EigError::DenseEigen(e),
         }
     }
 }
@@ -238,283 +659,25 @@ pub(crate) fn run<V, O>(
     op: &mut O,
     options: &LanczosOptions,
     k: usize,
-    mut basis: Basis<V>,
-    mut progress: Option<ProgressCallback>,
-) -> Result<Outcome<V>, String>
+    basis: Basis<V>,
+    progress: Option<ProgressCallback>,
+) -> Result<Outcome<V>, RunError>
 where
     V: Scalar<Real = f64>,
     O: HermitianOperator<V> + ?Sized,
 {
-    let start_time = Instant::now();
-    let n = op.dim();
-    let nd = basis.cols();
-    let (which, tol) = (options.which, options.tolerance);
-    let m_max = if options.max_dim == 0 {
-        (2 * k).max(k + 32)
-    } else {
-        options.max_dim
-    }
-    .min(n - nd)
-    .max(1);
-    let mut rng = SplitMix64::new(options.seed);
-    let mut gs = GramSchmidt::new();
-    let mut stats = Statistics::default();
-    let mut orth_time = Duration::ZERO;
-    let mut locked: Vec<f64> = Vec::new();
-    let mut h = Mat::<f64>::zeros(m_max + 1, m_max + 1);
-    let mut w = vec![V::zero(); n];
-    let mut coef: Vec<V> = Vec::new();
-    let mut ritz_block: Vec<V> = Vec::new();
-    let mut limit_hit = false;
-    // Largest |Ritz value| so far: a lower bound of ‖A‖ for the rounding level of estimates.
-    let mut norm_estimate = 0.0f64;
-
-    'rounds: loop {
-        let mut base = nd + locked.len();
-        if base >= n {
-            break;
-        }
-        let mut m = m_max.min(n - base);
-        stats.rounds += 1;
-        basis.truncate(base);
-        rng.fill_symmetric(&mut w);
-        let t = Instant::now();
-        let started = append_orthonormal(&mut basis, &mut gs, &mut w, &mut coef);
-        orth_time += t.elapsed();
-        if !started {
-            break;
-        }
-        let mut new_in_round = 0usize;
-        let mut p = 0usize; // kept Ritz vectors in front of the active basis
-        let mut j = 0usize; // active vector being expanded
-        h.fill(0.0);
-        loop {
-            // ---- expansion ----
-            let mut invariant = false;
-            let mut check_now = false;
-            while j < m {
-                if stats.operator_applications >= options.max_operator_applications {
-                    limit_hit = true;
-                    break 'rounds;
-                }
-                op.apply(basis.col(base + j), &mut w);
-                stats.operator_applications += 1;
-                stats.iterations += 1;
-                let t = Instant::now();
-                let raw = vector::norm(&w);
-                let mut alpha = 0.0;
-                if j > p {
-                    let qj = basis.col(base + j);
-                    alpha = vector::inner(qj, &w).re();
-                    vector::axpy(&mut w, qj, V::from_real(-alpha));
-                    vector::axpy(
-                        &mut w,
-                        basis.col(base + j - 1),
-                        V::from_real(-h[(j, j - 1)]),
-                    );
-                }
-                gs.orthogonalize(&basis, base + j + 1, &mut w, &mut coef);
-                h[(j, j)] = alpha + coef[base + j].re();
-                let beta = vector::norm(&w);
-                let appended = if beta > 1e-12 * raw {
-                    vector::scale(&mut w, 1.0 / beta);
-                    basis.push(&w);
-                    h[(j + 1, j)] = beta;
-                    h[(j, j + 1)] = beta;
-                    true
-                } else {
-                    // Invariant subspace: continue from a fresh direction, decoupled.
-                    rng.fill_symmetric(&mut w);
-                    append_orthonormal(&mut basis, &mut gs, &mut w, &mut coef)
-                };
-                orth_time += t.elapsed();
-                j += 1;
-                if !appended {
-                    invariant = true;
-                    break;
-                }
-                if (j - p).is_multiple_of(CHECK_INTERVAL) && j < m && locked.len() + j >= k {
-                    check_now = true;
-                    break;
-                }
-            }
-            let size = j;
-            let beta_last = if invariant { 0.0 } else { h[(size, size - 1)] };
-            let pairs = ritz(&h, size, beta_last, which)?;
-            norm_estimate = pairs
-                .theta
-                .iter()
-                .fold(norm_estimate, |a, t| a.max(t.abs()));
-
-            // ---- locking candidates (by estimate), in order of wantedness ----
-            let mut candidate_values = locked.clone();
-            let mut candidates = Vec::new();
-            for &i in &pairs.order {
-                let theta = pairs.theta[i];
-                if pairs.estimate[i] > tol * theta.abs() {
-                    continue;
-                }
-                let wanted = match kth_best(which, &candidate_values, k) {
-                    None => true,
-                    Some(kth) => !better(which, kth, theta, tol),
-                };
-                if wanted {
-                    candidates.push(i);
-                    candidate_values.push(theta);
-                }
-            }
-            if check_now {
-                let remaining: Vec<usize> = pairs
-                    .order
-                    .iter()
-                    .copied()
-                    .filter(|i| !candidates.contains(i))
-                    .collect();
-                if !round_finished(which, tol, &candidate_values, k, &pairs, &remaining) {
-                    continue; // keep expanding
-                }
-            }
-
-            // ---- restart: Ritz vectors of the candidates and of the best others ----
-            stats.restarts += 1;
-            let needed = k.saturating_sub(locked.len()).max(1);
-            let keep_max = if invariant {
-                0
-            } else {
-                (needed + (m - needed.min(m)) / 2).min(m - 1)
-            };
-            let mut selection = candidates.clone();
-            let keep_max = keep_max.min(size.saturating_sub(candidates.len()));
-            selection.extend(
-                pairs
-                    .order
-                    .iter()
-                    .copied()
-                    .filter(|i| !candidates.contains(i))
-                    .take(keep_max),
-            );
-            let t = Instant::now();
-            ritz_block.resize(n * (selection.len() + 1), V::zero());
-            {
-                let ysel =
-                    Mat::<f64>::from_fn(size, selection.len(), |r, c| pairs.y[(r, selection[c])]);
-                let out = MatMut::from_column_major_slice_mut(
-                    V::as_reals_mut(&mut ritz_block[..n * selection.len()]),
-                    V::REAL_DIM * n,
-                    selection.len(),
-                );
-                // The one compute-bound step: on all cores once it is large (a few per run).
-                let par = if V::REAL_DIM * n * size * selection.len() >= PARALLEL_RITZ_FLOPS
-                    && qsparse::threads::second_thread_allowed()
-                {
-                    Par::rayon(0)
-                } else {
-                    Par::Seq
-                };
-                matmul(
-                    out,
-                    Accum::Replace,
-                    basis.reals(base, size),
-                    ysel.as_ref(),
-                    1.0,
-                    par,
-                );
-            }
-            if !invariant {
-                let cont = selection.len();
-                ritz_block[cont * n..(cont + 1) * n].copy_from_slice(basis.col(base + size));
-            }
-            orth_time += t.elapsed();
-
-            let kth_before = kth_best(which, &locked, k);
-            let mut newly_locked = Vec::new();
-            for (c, &i) in selection.iter().enumerate().take(candidates.len()) {
-                let theta = pairs.theta[i];
-                let y = &ritz_block[c * n..(c + 1) * n];
-                let at_rounding_level = pairs.estimate[i] <= ROUNDING * norm_estimate;
-                let residual = op.relative_residual(y, theta);
-                if residual <= tol || at_rounding_level {
-                    newly_locked.push(c);
-                    locked.push(theta);
-                    let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
-                    new_in_round += usize::from(is_new);
-                }
-            }
-            stats.locked = locked.len();
-            let new_base = nd + locked.len();
-            let m_new = m_max.min(n - new_base);
-            // New layout: [deflation | locked (old, new) | kept | continuation].
-            let kept: Vec<usize> = (0..selection.len())
-                .filter(|c| !newly_locked.contains(c))
-                .take(keep_max.min(m_new.saturating_sub(1)))
-                .collect();
-            let t = Instant::now();
-            basis.truncate(base);
-            for &c in newly_locked.iter().chain(&kept) {
-                basis.push(&ritz_block[c * n..(c + 1) * n]);
-            }
-            orth_time += t.elapsed();
-            if let Some(cb) = progress.as_deref_mut() {
-                let report = Progress {
-                    round: stats.rounds,
-                    restarts: stats.restarts,
-                    operator_applications: stats.operator_applications,
-                    locked: locked.len(),
-                    wanted: k,
-                };
-                if cb(&report).is_break() {
-                    limit_hit = true;
-                    break 'rounds;
-                }
-            }
-            let unlocked: Vec<usize> = pairs
-                .order
-                .iter()
-                .copied()
-                .filter(|&i| !newly_locked.iter().any(|&c| selection[c] == i))
-                .collect();
-            if invariant || m_new == 0 || round_finished(which, tol, &locked, k, &pairs, &unlocked)
-            {
-                if new_in_round == 0 {
-                    break 'rounds;
-                }
-                continue 'rounds;
-            }
-            if stats.restarts >= options.max_restarts {
-                limit_hit = true;
-                break 'rounds;
-            }
-            // Continue the Krylov–Schur sequence from the residual vector.
-            h.fill(0.0);
-            p = kept.len();
-            for (r, &c) in kept.iter().enumerate() {
-                let i = selection[c];
-                h[(r, r)] = pairs.theta[i];
-                let s = beta_last * pairs.y[(size - 1, i)];
-                h[(p, r)] = s;
-                h[(r, p)] = s;
-            }
-            basis.push(&ritz_block[selection.len() * n..(selection.len() + 1) * n]);
-            base = new_base;
-            m = m_new;
-            j = p;
+    let start = Instant::now();
+    let mut lanczos =
+        Lanczos::new(op, options, k, basis, progress).map_err(RunError::BasisTooLarge)?;
+    while lanczos.start_round() {
+        match lanczos.round() {
+            Ok(()) if lanczos.new_in_round > 0 => {}
+            Ok(()) => break,
+            Err(LanczosFailure::Stopped) => return Ok(lanczos.finish(start, false)),
+            Err(LanczosFailure::DenseEigen(e)) => return Err(RunError::DenseEigen(e)),
         }
     }
-
-    // Locked pairs, best first.
-    let mut order: Vec<usize> = (0..locked.len()).collect();
-    order.sort_by(|&a, &b| which.score(locked[b]).total_cmp(&which.score(locked[a])));
-    let (solves, solve_time) = op.solve_statistics();
-    stats.solves = solves;
-    stats.solve_time = solve_time;
-    stats.orthogonalization_time = orth_time;
-    stats.total_time = start_time.elapsed();
-    Ok(Outcome {
-        values: order.iter().map(|&i| locked[i]).collect(),
-        vectors: order.iter().map(|&i| basis.col(nd + i).to_vec()).collect(),
-        converged: !limit_hit && locked.len() >= k,
-        statistics: stats,
-    })
+    Ok(lanczos.finish(start, true))
 }
 
 /// The `options.k` eigenpairs `A yᵢ = yᵢ θᵢ` of a Hermitian operator selected by
@@ -534,7 +697,6 @@ where
     let n = op.dim();
     validate_options(options)?;
     let mut basis = Basis::new(n);
-    let mut gs = GramSchmidt::new();
     let mut coef = Vec::new();
     for d in deflation {
         if d.len() != n {
@@ -545,7 +707,7 @@ where
             });
         }
         let mut v = d.clone();
-        append_orthonormal(&mut basis, &mut gs, &mut v, &mut coef);
+        basis.append_orthonormal(&mut v, &mut coef);
     }
     let available = n - basis.cols();
     if options.k == 0 || options.k > available {
@@ -554,7 +716,7 @@ where
             available,
         });
     }
-    let outcome = run(op, options, options.k, basis, progress).map_err(EigError::DenseEigen)?;
+    let outcome = run(op, options, options.k, basis, progress)?;
     let count = outcome.values.len().min(options.k);
     let residuals = outcome.vectors[..count]
         .iter()

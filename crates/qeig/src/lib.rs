@@ -47,6 +47,7 @@ mod basis;
 pub mod dense;
 mod error;
 pub mod lanczos;
+mod memory;
 mod pencil;
 mod result;
 
@@ -54,7 +55,7 @@ pub use backend::{
     Backend, ComplexAdjoint, ComplexAdjointOperator, Factor, FactoredPencil, FaerCholesky, MatVec,
     Native, NativeFactor, NativeOperator, PencilOperator, RealBlock, RealBlockOperator,
 };
-pub use error::EigError;
+pub use error::{BasisTooLarge, DenseEigenError, EigError, EmbeddedFactorizationError};
 pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
 pub use pencil::Pencil;
 /// When the eigensolver may use a second thread (re-exported from `qsparse`).

@@ -20,7 +20,7 @@ use std::time::Instant;
 use qscalar::Scalar;
 use qsparse::{DenseMatrix, SparseMatrix, vector};
 
-use crate::basis::{Basis, GramSchmidt, append_orthonormal};
+use crate::basis::Basis;
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
 use crate::{
@@ -204,19 +204,17 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         // Constraints in the iteration space: C⁻¹ (c e_u) for every unit e_u, orthonormalised.
         let dim = op.dim();
         let mut basis = Basis::new(dim);
-        let mut gs = GramSchmidt::new();
         let mut coef = Vec::new();
         for c in &self.constraints {
             for u in 0..T::REAL_DIM {
                 let e: T = unit(u);
                 let ce: Vec<T> = c.iter().map(|&x| x * e).collect();
                 let mut y = op.constraint_direction(&backend.embed(&ce));
-                append_orthonormal(&mut basis, &mut gs, &mut y, &mut coef);
+                basis.append_orthonormal(&mut y, &mut coef);
             }
         }
 
-        let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)
-            .map_err(EigError::DenseEigen)?;
+        let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)?;
         let mut values = Vec::new();
         let mut vectors = Vec::new();
         for (y, &theta) in outcome.vectors.iter().zip(&outcome.values) {
