@@ -311,6 +311,22 @@ where
         })
     }
 
+    /// The active dimension after a restart with the active basis starting at `base`: twice
+    /// the pairs still needed (at least 32 more than them), as for the first cycle, and never
+    /// more than the first cycle's. Shrinking it as pairs lock keeps the whole basis — the
+    /// locked vectors and the active ones, which every step orthogonalises against — near
+    /// `k + needed` instead of `k + max_active`: at k = 200 on the armadillo this reads 21 %
+    /// fewer basis columns for 4 % fewer operator applications (docs/PERFORMANCE.md).
+    fn active_dimension(&self, base: usize) -> usize {
+        let needed = self.k.saturating_sub(self.locked.len()).max(1);
+        let wanted = if self.options.max_dim == 0 {
+            (2 * needed).max(needed + 32)
+        } else {
+            self.max_active
+        };
+        wanted.min(self.max_active).min(self.n - base)
+    }
+
     /// First column of the active basis.
     fn base(&self) -> usize {
         self.deflation + self.locked.len()
@@ -329,7 +345,7 @@ where
         let t = Instant::now();
         let started = self.basis.append_orthonormal(&mut self.w, &mut self.coef);
         self.orthogonalization_time += t.elapsed();
-        self.active = self.max_active.min(self.n - base);
+        self.active = self.active_dimension(base);
         self.kept = 0;
         self.expanded = 0;
         self.new_in_round = 0;
@@ -513,7 +529,7 @@ where
             .extend(newly_locked.iter().map(|&c| pairs.theta[selection[c]]));
         self.statistics.locked = self.locked.len();
         let new_base = self.base();
-        let new_active = self.max_active.min(self.n - new_base);
+        let new_active = self.active_dimension(new_base);
         let kept: Vec<usize> = (0..selection.len())
             .filter(|c| !newly_locked.contains(c))
             .take(keep_max.min(new_active.saturating_sub(1)))
