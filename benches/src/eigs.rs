@@ -74,6 +74,7 @@ fn summary<T>(seconds: f64, result: &Result<Eigen<T>, qeig::EigError<T>>) -> Val
                 "factorization_seconds": s.factorization_time.as_secs_f64(),
                 "solve_seconds": s.solve_time.as_secs_f64(),
                 "orthogonalization_seconds": s.orthogonalization_time.as_secs_f64(),
+                "basis_columns_read": s.basis_columns_read,
             })
         }
         Err(e) => json!({ "seconds": seconds, "converged": 0, "error": e.to_string() }),

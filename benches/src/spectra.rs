@@ -57,6 +57,7 @@ pub fn compare_spectrum(
                     "factorization_seconds": s.statistics.factorization_time.as_secs_f64(),
                     "solve_seconds": s.statistics.solve_time.as_secs_f64(),
                     "orthogonalization_seconds": s.statistics.orthogonalization_time.as_secs_f64(),
+                    "basis_columns_read": s.statistics.basis_columns_read,
                     "max_residual": s.residuals.iter().copied().fold(0.0, f64::max),
                 })
             }

@@ -70,6 +70,7 @@ fn json_output_is_complete_and_agrees_with_the_library() {
         "rounds",
         "operator_applications",
         "solves",
+        "basis_columns_read",
     ] {
         assert!(report["statistics"][key].is_u64(), "statistics.{key}");
     }

@@ -24,10 +24,13 @@ use qsparse::vector;
 use crate::memory::{self, BasisTooLarge};
 
 /// `n`-vectors stored contiguously column after column.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct Basis<V> {
     n: usize,
     data: Vec<V>,
+    /// Columns read by Gram–Schmidt passes so far (the orthogonalisation's memory traffic is
+    /// this times the size of a column).
+    columns_read: AtomicUsize,
 }
 
 impl<V: Scalar<Real = f64>> Basis<V> {
@@ -35,7 +38,13 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         Self {
             n,
             data: Vec::new(),
+            columns_read: AtomicUsize::new(0),
         }
+    }
+
+    /// Columns read by Gram–Schmidt passes so far.
+    pub(crate) fn columns_read(&self) -> usize {
+        self.columns_read.load(Ordering::Relaxed)
     }
 
     pub(crate) fn cols(&self) -> usize {
@@ -187,6 +196,7 @@ impl<V: Scalar<Real = f64>> Basis<V> {
     /// fixed order (first half, then second), so that both threads use the same coefficient
     /// and the result does not depend on timing.
     fn pass(&self, m: usize, w: &mut [V], coef: &mut [V]) {
+        self.columns_read.fetch_add(m, Ordering::Relaxed);
         let two_threads =
             w.len() * V::REAL_DIM >= PARALLEL_REALS && qsparse::threads::second_thread_allowed();
         pass(self, m, w, coef, two_threads);

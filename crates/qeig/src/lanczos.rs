@@ -616,6 +616,7 @@ where
         let mut statistics = self.statistics;
         (statistics.solves, statistics.solve_time) = self.op.solve_statistics();
         statistics.orthogonalization_time = self.orthogonalization_time;
+        statistics.basis_columns_read = self.basis.columns_read();
         statistics.total_time = start.elapsed();
         let converged = converged && self.locked.len() >= self.k;
         let values = order.iter().map(|&i| self.locked[i]).collect();

@@ -49,6 +49,10 @@ pub struct Statistics {
     pub solve_time: Duration,
     /// Time in Gram–Schmidt orthogonalisation and basis updates at restarts.
     pub orthogonalization_time: Duration,
+    /// Basis vectors read by the Gram–Schmidt passes: the orthogonalisation's memory traffic
+    /// is this times the size of a vector. A measure of its work that, unlike its time, does
+    /// not depend on the load of the machine.
+    pub basis_columns_read: usize,
     /// Wall-clock time of the whole solve.
     pub total_time: Duration,
 }
@@ -65,6 +69,7 @@ impl std::ops::AddAssign<&Statistics> for Statistics {
         self.factorization_time += run.factorization_time;
         self.solve_time += run.solve_time;
         self.orthogonalization_time += run.orthogonalization_time;
+        self.basis_columns_read += run.basis_columns_read;
         self.total_time += run.total_time;
     }
 }

@@ -171,6 +171,8 @@ pub struct StatisticsReport {
     pub operator_applications: usize,
     /// Triangular solves.
     pub solves: usize,
+    /// Basis vectors read by Gram–Schmidt (the orthogonalisation's work, independent of load).
+    pub basis_columns_read: usize,
 }
 
 /// Wall-clock times in seconds.
@@ -230,6 +232,7 @@ impl Report {
             rounds: s.rounds,
             operator_applications: s.operator_applications,
             solves: s.solves,
+            basis_columns_read: s.basis_columns_read,
         };
         self.timings.assemble_and_solve = assemble_and_solve.as_secs_f64();
         self.timings.factorization = s.factorization_time.as_secs_f64();
