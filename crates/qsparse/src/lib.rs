@@ -17,6 +17,7 @@ pub mod embedding;
 mod error;
 mod ops;
 mod product;
+mod simd;
 #[cfg(feature = "proptest-support")]
 pub mod strategies;
 pub mod threads;

@@ -4,24 +4,15 @@
 use num_traits::{Float, One, Zero};
 use qscalar::Scalar;
 
+use crate::simd::dispatch_avx2_fma;
+
+dispatch_avx2_fma! {
 /// `⟨x, y⟩ = Σᵢ conj(xᵢ) yᵢ`. Slices of unequal length are compared over the shorter one.
 ///
 /// Accumulates the real `REAL_DIM × REAL_DIM` outer products `S_κλ = Σᵢ xᵢ,κ yᵢ,λ` (pure
 /// multiply-adds that vectorise) and combines them once with the unit products:
 /// `⟨x, y⟩ = Σ_κλ S_κλ conj(e_κ) e_λ`.
-pub fn inner<T: Scalar>(x: &[T], y: &[T]) -> T {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { inner_avx2_fma(x, y) };
-    }
-    inner_kernel::<T, false>(x, y)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn inner_avx2_fma<T: Scalar>(x: &[T], y: &[T]) -> T {
-    inner_kernel::<T, true>(x, y)
+pub fn inner[T: Scalar](x: &[T], y: &[T]) -> T => inner_kernel[T,]
 }
 
 /// `a b + c`, fused when the caller is compiled with FMA (without hardware FMA, `mul_add`
@@ -65,40 +56,19 @@ pub fn norm<T: Scalar>(x: &[T]) -> T::Real {
     x.iter().fold(T::Real::zero(), |s, v| s + v.abs2()).sqrt()
 }
 
+dispatch_avx2_fma! {
 /// `y ← y + x c` (coefficient on the right, as in a Gram–Schmidt update `w −= v ⟨v, w⟩`).
 ///
 /// Computed through `RightMultiplier`, which the compiler turns into broadcast multiply-adds
 /// over the components instead of a scalar quaternion product per entry.
-pub fn axpy<T: Scalar>(y: &mut [T], x: &[T], c: T) {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { axpy_avx2_fma(y, x, c) };
-    }
-    axpy_kernel::<T, false>(y, x, c)
+pub fn axpy[T: Scalar](y: &mut [T], x: &[T], c: T) => axpy_kernel[T,]
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn axpy_avx2_fma<T: Scalar>(y: &mut [T], x: &[T], c: T) {
-    axpy_kernel::<T, true>(y, x, c)
-}
-
+dispatch_avx2_fma! {
 /// `y[rows[i]] ← y[rows[i]] + x[i] c`: the scattered `axpy` of a sparse column times `c`
 /// (panics if a row index is outside `y`, like slice indexing).
-pub(crate) fn scatter_axpy<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { scatter_axpy_avx2_fma(y, rows, x, c) };
-    }
-    scatter_axpy_kernel::<T, false>(y, rows, x, c)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn scatter_axpy_avx2_fma<T: Scalar>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
-    scatter_axpy_kernel::<T, true>(y, rows, x, c)
+pub(crate) fn scatter_axpy[T: Scalar](y: &mut [T], rows: &[usize], x: &[T], c: T)
+    => scatter_axpy_kernel[T,]
 }
 
 #[inline(always)]
@@ -186,16 +156,7 @@ pub(crate) fn prefetch_head<T>(values: &[T]) {
 /// Whether the quaternion kernels of [`quaternion`] apply to `T` on this CPU.
 #[inline]
 fn quaternion_kernels<T: Scalar<Real = f64>>() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        T::REAL_DIM == 4
-            && std::is_x86_feature_detected!("avx2")
-            && std::is_x86_feature_detected!("fma")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
+    T::REAL_DIM == 4 && crate::simd::has_avx2_fma()
 }
 
 /// The components of `e_κ c` for `κ < REAL_DIM` (zero-padded): `x c = Σ_κ x_κ (e_κ c)`, the

@@ -5,6 +5,8 @@
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
+use crate::simd::dispatch_avx2_fma;
+
 /// The leading `R × R` block of a `4 × 4` array.
 pub(super) fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
     let mut out = [[0.0; R]; R];
@@ -14,30 +16,14 @@ pub(super) fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
     out
 }
 
+dispatch_avx2_fma! {
 /// [`fused_kernel`], with FMA where the CPU has it.
-pub(super) fn fused<const R: usize>(
+pub(super) fn fused[const R: usize](
     w: &mut [f64],
     v: &[f64],
     rows: [[f64; R]; R],
     next: &[f64],
-) -> [[f64; R]; R] {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { fused_avx2_fma::<R>(w, v, rows, next) };
-    }
-    fused_kernel::<R, false>(w, v, rows, next)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn fused_avx2_fma<const R: usize>(
-    w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] {
-    fused_kernel::<R, true>(w, v, rows, next)
+) -> [[f64; R]; R] => fused_kernel[R,]
 }
 
 #[inline(always)]
@@ -118,20 +104,10 @@ pub(super) fn widen<const R: usize>(s: [[f64; R]; R]) -> [[f64; 4]; 4] {
     out
 }
 
+dispatch_avx2_fma! {
 /// `S_κλ = Σₗ a[R l + κ] b[R l + λ]` (`R` divides 8).
-pub(super) fn outer_products<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function is compiled for.
-        return unsafe { outer_products_avx2_fma::<R>(a, b) };
-    }
-    outer_products_kernel::<R, false>(a, b)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn outer_products_avx2_fma<const R: usize>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    outer_products_kernel::<R, true>(a, b)
+pub(super) fn outer_products[const R: usize](a: &[f64], b: &[f64]) -> [[f64; R]; R]
+    => outer_products_kernel[R,]
 }
 
 #[inline(always)]
