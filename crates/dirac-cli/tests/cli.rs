@@ -71,6 +71,9 @@ fn json_output_is_complete_and_agrees_with_the_library() {
         "operator_applications",
         "solves",
         "basis_columns_read",
+        "factor_bytes",
+        "basis_bytes",
+        "eigenvector_bytes",
     ] {
         assert!(report["statistics"][key].is_u64(), "statistics.{key}");
     }

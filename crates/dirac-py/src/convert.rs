@@ -222,6 +222,8 @@ pub fn spectrum_dict<'py>(
     statistics.set_item("solves", s.solves)?;
     statistics.set_item("locked", s.locked)?;
     statistics.set_item("basis_columns_read", s.basis_columns_read)?;
+    statistics.set_item("factor_bytes", s.factor_bytes)?;
+    statistics.set_item("basis_bytes", s.basis_bytes)?;
     statistics.set_item("factorization_seconds", s.factorization_time.as_secs_f64())?;
     statistics.set_item("solve_seconds", s.solve_time.as_secs_f64())?;
     statistics.set_item(

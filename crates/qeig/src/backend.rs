@@ -78,6 +78,8 @@ pub trait Factor<V> {
     fn lower(&mut self, x: &mut [V]);
     /// `x ← C⁻ᴴ x`.
     fn upper(&mut self, x: &mut [V]);
+    /// Bytes of the stored factor values.
+    fn bytes(&self) -> usize;
 }
 
 /// A matrix–vector product `y = M x`.
@@ -163,6 +165,10 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
     fn solve_statistics(&self) -> (usize, Duration) {
         (self.solves, self.solve_time)
     }
+
+    fn factor_bytes(&self) -> usize {
+        self.factor.bytes()
+    }
 }
 
 impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
@@ -212,6 +218,10 @@ impl<T: Scalar<Real = f64>> Factor<T> for NativeFactor<T> {
         self.cholesky
             .solve_upper_in_place_with(x, &mut self.work)
             .expect("vector length equals the factor dimension");
+    }
+
+    fn bytes(&self) -> usize {
+        self.cholesky.stats().factor_bytes
     }
 }
 
@@ -343,6 +353,10 @@ impl<E: ComplexField + Scalar<Real = f64>> Factor<E> for FaerCholesky<E> {
             x[old] = v;
         }
         self.permuted = permuted;
+    }
+
+    fn bytes(&self) -> usize {
+        self.values.len() * std::mem::size_of::<E>()
     }
 }
 

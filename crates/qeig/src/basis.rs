@@ -42,6 +42,11 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         }
     }
 
+    /// Bytes of the storage (the largest the basis has been: it never shrinks while iterating).
+    pub(crate) fn reserved_bytes(&self) -> usize {
+        self.data.capacity() * std::mem::size_of::<V>()
+    }
+
     /// Columns read by Gram–Schmidt passes so far.
     pub(crate) fn columns_read(&self) -> usize {
         self.columns_read.load(Ordering::Relaxed)
@@ -111,8 +116,7 @@ impl<V: Scalar<Real = f64>> Basis<V> {
     /// Long products run on two threads, each on half of the rows.
     pub(crate) fn combine_in_place(&mut self, start: usize, y: MatRef<'_, f64>) {
         let flops = V::REAL_DIM * self.n * y.nrows() * y.ncols();
-        let two_threads =
-            flops >= PARALLEL_RITZ_FLOPS && qsparse::threads::second_thread_allowed();
+        let two_threads = flops >= PARALLEL_RITZ_FLOPS && qsparse::threads::second_thread_allowed();
         self.combine_in_place_on(start, y, two_threads);
     }
 

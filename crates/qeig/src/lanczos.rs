@@ -143,6 +143,10 @@ pub trait HermitianOperator<V> {
     fn solve_statistics(&self) -> (usize, Duration) {
         (0, Duration::ZERO)
     }
+    /// Bytes of the factor the operator holds (zero for operators without one).
+    fn factor_bytes(&self) -> usize {
+        0
+    }
 }
 
 /// What the core hands back: locked pairs sorted by wantedness, in the iteration space.
@@ -617,6 +621,8 @@ where
         (statistics.solves, statistics.solve_time) = self.op.solve_statistics();
         statistics.orthogonalization_time = self.orthogonalization_time;
         statistics.basis_columns_read = self.basis.columns_read();
+        statistics.basis_bytes = self.basis.reserved_bytes();
+        statistics.factor_bytes = self.op.factor_bytes();
         statistics.total_time = start.elapsed();
         let converged = converged && self.locked.len() >= self.k;
         let values = order.iter().map(|&i| self.locked[i]).collect();

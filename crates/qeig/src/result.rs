@@ -53,6 +53,11 @@ pub struct Statistics {
     /// is this times the size of a vector. A measure of its work that, unlike its time, does
     /// not depend on the load of the machine.
     pub basis_columns_read: usize,
+    /// Bytes of the Krylov basis at its largest (reserved before the iteration, see
+    /// [`crate::LanczosOptions::memory_limit`]).
+    pub basis_bytes: usize,
+    /// Bytes of the stored values of the Cholesky factor of `S`.
+    pub factor_bytes: usize,
     /// Wall-clock time of the whole solve.
     pub total_time: Duration,
 }
@@ -70,6 +75,9 @@ impl std::ops::AddAssign<&Statistics> for Statistics {
         self.solve_time += run.solve_time;
         self.orthogonalization_time += run.orthogonalization_time;
         self.basis_columns_read += run.basis_columns_read;
+        // Memory is a peak, not a total: solves run one after the other.
+        self.basis_bytes = self.basis_bytes.max(run.basis_bytes);
+        self.factor_bytes = self.factor_bytes.max(run.factor_bytes);
         self.total_time += run.total_time;
     }
 }

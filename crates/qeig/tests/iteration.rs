@@ -238,8 +238,36 @@ fn bad_input_is_a_typed_error() {
     ));
     assert!(matches!(
         p2.solve(&ComplexAdjoint, &opts(1)),
-        Err(EigError::EmbeddedFactorization(_))
+        Err(EigError::EmbeddedFactorization(
+            qeig::EmbeddedFactorizationError::NotPositiveDefinite { .. }
+        ))
     ));
+}
+
+/// A basis that does not fit in the memory limit is refused before the iteration, with what
+/// it needs; the memory figures of a run that fits are what it holds.
+#[test]
+fn basis_beyond_the_memory_limit_is_refused() {
+    let (k_mat, s_mat) = pencil(7, 200);
+    let p = Pencil::new(&k_mat, &s_mat).unwrap();
+    // k = 4: 4 locked + max(8, 36) active + 1 continuation = 41 vectors of 200 quaternions.
+    let options = |limit| LanczosOptions {
+        memory_limit: Some(limit),
+        ..LanczosOptions::new(4, Which::LargestMagnitude)
+    };
+    let needed = 41 * 200 * 32;
+    match p.solve(&Native, &options(needed - 1)) {
+        Err(EigError::BasisTooLarge(e)) => {
+            assert_eq!(e.bytes_needed(), needed);
+            assert_eq!((e.vectors, e.dimension), (41, 200));
+            assert!(e.to_string().contains("fewer pairs"), "{e}");
+        }
+        other => panic!("expected BasisTooLarge, got {other:?}"),
+    }
+    let eig = p.solve(&Native, &options(needed)).unwrap();
+    assert_eq!(eig.statistics.basis_bytes as u64, needed);
+    let factor = qsparse::SparseCholesky::factorize(&s_mat).unwrap();
+    assert_eq!(eig.statistics.factor_bytes, factor.stats().factor_bytes);
 }
 
 #[test]

@@ -173,6 +173,12 @@ pub struct StatisticsReport {
     pub solves: usize,
     /// Basis vectors read by Gram–Schmidt (the orthogonalisation's work, independent of load).
     pub basis_columns_read: usize,
+    /// Bytes of the Cholesky factor's values.
+    pub factor_bytes: usize,
+    /// Bytes of the Krylov basis at its largest.
+    pub basis_bytes: usize,
+    /// Bytes of the returned eigenvectors (`k · n` quaternions).
+    pub eigenvector_bytes: usize,
 }
 
 /// Wall-clock times in seconds.
@@ -233,6 +239,11 @@ impl Report {
             operator_applications: s.operator_applications,
             solves: s.solves,
             basis_columns_read: s.basis_columns_read,
+            factor_bytes: s.factor_bytes,
+            basis_bytes: s.basis_bytes,
+            eigenvector_bytes: (spectrum.eigenvectors.iter())
+                .map(|x| std::mem::size_of_val(x.as_slice()))
+                .sum(),
         };
         self.timings.assemble_and_solve = assemble_and_solve.as_secs_f64();
         self.timings.factorization = s.factorization_time.as_secs_f64();
