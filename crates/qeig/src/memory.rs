@@ -11,7 +11,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
 #[error(
     "the Lanczos basis needs {} ({vectors} vectors of {dimension} entries of {bytes_per_entry} bytes){}; \
-     ask for fewer pairs, or set a smaller basis (max_dim), or run on a machine with more memory",
+     ask for fewer pairs, or run where more memory is available",
     gibibytes(self.bytes_needed()),
     match bytes_available {
         Some(available) => format!(" but only {} are available", gibibytes(*available)),

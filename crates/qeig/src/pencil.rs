@@ -217,8 +217,10 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)?;
         let mut values = Vec::new();
         let mut vectors = Vec::new();
-        for (y, &theta) in outcome.vectors.iter().zip(&outcome.values) {
-            for x in backend.extract(&op.eigenvector(y)) {
+        // Consumed pair by pair, so that the iteration-space vectors and the pencil's are never
+        // all held at once (at a million unknowns, k vectors are gigabytes).
+        for (y, &theta) in outcome.vectors.into_iter().zip(&outcome.values) {
+            for x in backend.extract(&op.eigenvector(&y)) {
                 values.push(theta);
                 vectors.push(x);
             }
