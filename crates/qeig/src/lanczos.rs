@@ -498,17 +498,16 @@ where
         candidates: &[usize],
         expansion: Expansion,
     ) -> Result<AfterRestart, Stopped> {
-        let (which, tol) = (self.options.which, self.options.tolerance);
         let invariant = expansion == Expansion::Invariant;
-        let (base, size, m) = (self.base(), self.expanded, self.active);
+        let (base, size) = (self.base(), self.expanded);
         self.statistics.restarts += 1;
-        let needed = self.k.saturating_sub(self.locked.len()).max(1);
         let keep_max = if invariant {
             0
         } else {
+            let (needed, m) = (self.k.saturating_sub(self.locked.len()).max(1), self.active);
             (needed + (m - needed.min(m)) / 2).min(m - 1)
-        };
-        let keep_max = keep_max.min(size.saturating_sub(candidates.len()));
+        }
+        .min(size.saturating_sub(candidates.len()));
         let mut selection = candidates.to_vec();
         selection.extend(pairs.others(candidates).into_iter().take(keep_max));
 
@@ -517,36 +516,18 @@ where
         self.basis.combine_in_place(base, y.as_ref());
         self.orthogonalization_time += t.elapsed();
 
-        let kth_before = kth_best(which, &self.locked, self.k);
-        let mut newly_locked = Vec::new();
-        for (c, &i) in selection.iter().enumerate().take(candidates.len()) {
-            let theta = pairs.theta[i];
-            let at_rounding_level = pairs.estimate[i] <= ROUNDING * self.norm_estimate;
-            let residual = self.op.relative_residual(self.basis.col(base + c), theta);
-            if residual <= tol || at_rounding_level {
-                newly_locked.push(c);
-                let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
-                self.new_in_round += usize::from(is_new);
-            }
-        }
-        self.locked
-            .extend(newly_locked.iter().map(|&c| pairs.theta[selection[c]]));
-        self.statistics.locked = self.locked.len();
-        let new_base = self.base();
-        let new_active = self.active_dimension(new_base);
+        let newly_locked = self.lock(pairs, &selection[..candidates.len()]);
+        let new_active = self.active_dimension(self.base());
         let kept: Vec<usize> = (0..selection.len())
             .filter(|c| !newly_locked.contains(c))
             .take(keep_max.min(new_active.saturating_sub(1)))
             .collect();
-        let layout: Vec<usize> = newly_locked.iter().chain(&kept).copied().collect();
-        let t = Instant::now();
-        self.basis.select_columns(base, &layout);
-        if !invariant {
-            self.basis.copy_column(base + size, base + layout.len());
-        }
-        self.basis
-            .truncate(base + layout.len() + usize::from(!invariant));
-        self.orthogonalization_time += t.elapsed();
+        self.relayout(
+            base,
+            &newly_locked,
+            &kept,
+            (!invariant).then_some(base + size),
+        );
         self.report_progress()?;
 
         let locked_now: Vec<usize> = newly_locked.iter().map(|&c| selection[c]).collect();
@@ -571,6 +552,50 @@ where
         self.expanded = p;
         self.active = new_active;
         Ok(AfterRestart::Continue)
+    }
+
+    /// Locks the candidates (Ritz pairs `candidates[c]`, whose vectors are now the active
+    /// columns `c`) whose true residual passes the tolerance, or whose estimate is at the
+    /// rounding level; returns their positions `c`.
+    fn lock(&mut self, pairs: &RitzPairs, candidates: &[usize]) -> Vec<usize> {
+        let (which, tol) = (self.options.which, self.options.tolerance);
+        let base = self.base();
+        let kth_before = kth_best(which, &self.locked, self.k);
+        let mut newly_locked = Vec::new();
+        for (c, &i) in candidates.iter().enumerate() {
+            let theta = pairs.theta[i];
+            let at_rounding_level = pairs.estimate[i] <= ROUNDING * self.norm_estimate;
+            let residual = self.op.relative_residual(self.basis.col(base + c), theta);
+            if residual <= tol || at_rounding_level {
+                newly_locked.push(c);
+                let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
+                self.new_in_round += usize::from(is_new);
+            }
+        }
+        self.locked
+            .extend(newly_locked.iter().map(|&c| pairs.theta[candidates[c]]));
+        self.statistics.locked = self.locked.len();
+        newly_locked
+    }
+
+    /// Moves the active columns `base + c` to `[newly locked | kept]` from `base` on, followed
+    /// by the continuation vector (column `continuation`, if any), and drops the rest.
+    fn relayout(
+        &mut self,
+        base: usize,
+        newly_locked: &[usize],
+        kept: &[usize],
+        continuation: Option<usize>,
+    ) {
+        let t = Instant::now();
+        let layout: Vec<usize> = newly_locked.iter().chain(kept).copied().collect();
+        self.basis.select_columns(base, &layout);
+        if let Some(column) = continuation {
+            self.basis.copy_column(column, base + layout.len());
+        }
+        let columns = base + layout.len() + usize::from(continuation.is_some());
+        self.basis.truncate(columns);
+        self.orthogonalization_time += t.elapsed();
     }
 
     /// Calls the progress callback; `Stopped` if it asks to stop.
