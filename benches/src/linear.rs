@@ -230,7 +230,11 @@ pub fn compare_orderings(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
         .map(|(&p, &q)| (p - q).norm_sqr())
         .sum::<f64>()
         .sqrt()
-        / solutions[0].iter().map(|q| q.norm_sqr()).sum::<f64>().sqrt();
+        / solutions[0]
+            .iter()
+            .map(|q| q.norm_sqr())
+            .sum::<f64>()
+            .sqrt();
     report.insert("case".into(), json!("ordering"));
     report.insert("quaternion_unknowns".into(), json!(n));
     report.insert("nnz".into(), json!(a.nnz()));

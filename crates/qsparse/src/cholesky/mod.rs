@@ -34,7 +34,7 @@ use crate::vector::{axpy, axpy_two, inner, inner_two, prefetch_head};
 use crate::{CholeskyError, SparseMatrix};
 use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
 pub use ordering::FillOrdering;
-use ordering::{Graph, nested_dissection};
+use ordering::{Graph, NESTED_DISSECTION_MIN_UNKNOWNS, nested_dissection};
 use partition::{TwoWaySplit, split_for_two_threads};
 
 /// Marks an input entry above the diagonal, which the factorisation does not read.
@@ -137,10 +137,33 @@ impl SymbolicCholesky {
                 ncols: a.ncols(),
             });
         }
-        let (supernodes, split) = if n == 0 {
-            ((vec![], vec![], vec![0], vec![0], vec![]), None)
+        let (ordering, supernodes) = if n == 0 {
+            let ordering = match ordering {
+                FillOrdering::Automatic => FillOrdering::Amd,
+                explicit => explicit,
+            };
+            (ordering, (vec![], vec![], vec![0], vec![0], vec![]))
         } else {
-            split_supernodes(faer_supernodes(a, ordering.resolve(n))?)
+            match ordering {
+                FillOrdering::Automatic if n < NESTED_DISSECTION_MIN_UNKNOWNS => {
+                    (FillOrdering::Amd, faer_supernodes(a, FillOrdering::Amd)?)
+                }
+                FillOrdering::Automatic => {
+                    let amd = faer_supernodes(a, FillOrdering::Amd)?;
+                    let dissection = faer_supernodes(a, FillOrdering::NestedDissection)?;
+                    if factor_flops(&dissection) < factor_flops(&amd) {
+                        (FillOrdering::NestedDissection, dissection)
+                    } else {
+                        (FillOrdering::Amd, amd)
+                    }
+                }
+                explicit => (explicit, faer_supernodes(a, explicit)?),
+            }
+        };
+        let (supernodes, split) = if n == 0 {
+            (supernodes, None)
+        } else {
+            split_supernodes(supernodes)
         };
         let (perm, perm_inv, supernode_begin, pattern_ptr, pattern) = supernodes;
         let n_super = supernode_begin.len() - 1;
@@ -218,7 +241,7 @@ impl SymbolicCholesky {
 
         Ok(Self {
             n,
-            ordering: ordering.resolve(n),
+            ordering,
             perm,
             supernode_begin,
             pattern_ptr,
@@ -241,7 +264,7 @@ impl SymbolicCholesky {
     }
 
     /// The fill-reducing ordering used: [`FillOrdering::Amd`] or
-    /// [`FillOrdering::NestedDissection`].
+    /// [`FillOrdering::NestedDissection`] (what [`FillOrdering::Automatic`] chose).
     pub fn ordering(&self) -> FillOrdering {
         self.ordering
     }
@@ -317,8 +340,9 @@ fn faer_supernodes<T: Scalar>(
         }
         None => SymmetricOrdering::Amd,
     };
-    let symbolic = factorize_symbolic_cholesky(symbolic_pattern, Side::Lower, faer_ordering, params)
-        .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
+    let symbolic =
+        factorize_symbolic_cholesky(symbolic_pattern, Side::Lower, faer_ordering, params)
+            .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
     let (perm, perm_inv) = match symbolic.perm() {
         Some(p) => {
             let (fwd, inv) = p.arrays();
@@ -348,6 +372,23 @@ fn faer_supernodes<T: Scalar>(
         }
     }
     Ok((perm, perm_inv, supernode_begin, pattern_ptr, pattern))
+}
+
+/// Multiply-adds of a numeric factorisation with these supernodes, `Σ_j c_j²` over the columns
+/// `j` with `c_j` the stored rows of column `j` (from its diagonal down): the cost model by
+/// which [`FillOrdering::Automatic`] chooses.
+fn factor_flops(supernodes: &Supernodes) -> f64 {
+    let (_, _, begin, pattern_ptr, _) = supernodes;
+    (0..begin.len() - 1)
+        .map(|s| {
+            let w = begin[s + 1] - begin[s];
+            let below = (pattern_ptr[s + 1] - pattern_ptr[s]) as f64;
+            // Column j of the block holds w − j + below rows.
+            (0..w)
+                .map(|j| ((w - j) as f64 + below).powi(2))
+                .sum::<f64>()
+        })
+        .sum()
 }
 
 /// Renumbers the supernodes for two threads (module [`partition`]) when the elimination tree

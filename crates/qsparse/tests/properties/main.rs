@@ -1,5 +1,6 @@
 //! Property tests of qsparse against independent truth: dense products, algebraic identities,
-//! faer's own sparse Cholesky, and dense solves. One test binary, so the helpers in `common` are shared.
+//! faer's own sparse Cholesky, and dense solves. One test binary, so the helpers in `common` are
+//! shared.
 
 mod cholesky;
 mod common;
