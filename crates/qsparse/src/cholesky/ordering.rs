@@ -43,9 +43,9 @@ pub enum FillOrdering {
     /// analysed and the one whose factorisation costs fewer multiply-adds (`Σ_j c_j²` over
     /// the factor's column counts `c_j`) is kept. Neither wins everywhere (measured in
     /// `docs/PERFORMANCE.md`, "Nested dissection (issue 15)"): nested dissection on closed
-    /// regular meshes (icospheres, the million-vertex torus: 20–25 % less fill, about half the
-    /// operations), AMD on irregular scanned meshes and open grids; the second analysis costs
-    /// about 3 % of the factorisation it chooses for.
+    /// regular meshes (icospheres, the million-vertex torus: 20–30 % less fill, factorisation
+    /// 2–3× faster), AMD on irregular scanned meshes and open grids; the second analysis costs
+    /// 3–6 % of the factorisation it chooses for.
     #[default]
     Automatic,
 }
