@@ -4,10 +4,12 @@
 //! * **Symbolic phase** ([`SymbolicCholesky`]): a fill-reducing ordering of the `n`-node graph
 //!   of the pattern (for quaternions the `n`-node graph, not the `4n` real one): faer's AMD or
 //!   our nested dissection, chosen by [`FillOrdering`] (module [`ordering`]); the elimination
-//!   tree and relaxed supernodes come from faer's analysis of the permuted pattern. On top of it we precompute where each input
-//!   value lands in the factor and, for every supernode, the list of earlier supernodes that
-//!   update it. Depends only on the pattern; reusable across refactorisations.
-//! * **Numeric phase** ([`SparseCholesky`]): left-looking supernodal factorisation. Each
+//!   tree and relaxed supernodes come from faer's analysis of the permuted pattern. On top of
+//!   it we precompute where each input value lands in the factor and, for every supernode,
+//!   the list of earlier supernodes that update it. Depends only on the pattern; reusable
+//!   across refactorisations.
+//! * **Numeric phase** ([`SparseCholesky`]): left-looking supernodal factorisation, on two
+//!   threads over the two subtree groups when the tree splits ([`SolveThreads`]). Each
 //!   supernode gathers its input columns, subtracts the updates `L_d[tail] · L_d[cols]ᴴ` of its
 //!   descendants (dense `C = A Bᴴ`, see [`dense`]), then factors its dense block.
 //! * **Solves**: forward and backward substitution by supernodes, one or many right-hand sides.

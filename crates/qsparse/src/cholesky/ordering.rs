@@ -15,13 +15,15 @@
 //! Each part is split by the level structure of a breadth-first search from a
 //! pseudo-peripheral vertex (levels `L₀, …, L_h`, every edge joins equal or adjacent levels):
 //! one level `L_m` is a separator of `L_{<m}` and `L_{>m}`. We take the smallest level whose
-//! two sides each hold between [`BALANCE`] and `1 − BALANCE` of the part, then thin it: a
-//! separator vertex with no neighbour in `B` moves to `A`, then one with no neighbour in `A`
-//! moves to `B`. Disconnected parts are ordered component by component; parts of at most
-//! [`LEAF_VERTICES`] vertices, and parts whose level structure is too shallow to cut (height
-//! below 3, e.g. a clique), are ordered by AMD. Vertices of very high degree (dense rows,
-//! [`dense_degree`]) would join every level structure into two levels; like AMD we take them
-//! out first and number them last.
+//! two sides each hold at least 30 % of the vertices outside it (without one, the level of
+//! the median vertex), then thin it: a separator vertex with no neighbour in `B` moves to
+//! `A`, then one with no neighbour in `A` moves to `B`. Disconnected parts are ordered
+//! component by component (small components together); parts of at most 128 vertices,
+//! parts whose level structure has fewer than 5 levels (diameter at most 3, e.g. a clique)
+//! and parts whose cut leaves more than 3/4 on one side are ordered by AMD — the last rule
+//! also keeps the depth of the dissection logarithmic. Vertices of very high degree (dense
+//! rows: above `max(16, 10 √n)`, AMD's rule) would join every level structure into two
+//! levels; like AMD we take them out first and number them last.
 //!
 //! The result is finally renumbered in a postorder of its elimination tree, which keeps the
 //! fill and makes the columns of each subtree contiguous, as the supernodal analysis expects.
