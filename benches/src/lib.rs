@@ -7,6 +7,7 @@ pub mod spectra;
 
 use std::time::Instant;
 
+use dirac::TriMesh;
 use dirac::generators::icosphere;
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use qscalar::Quat;
@@ -16,17 +17,23 @@ use qsparse::{SparseMatrix, TripletMatrix};
 const CONNECTION_STRENGTH: f64 = 3.0;
 
 /// The benchmark matrix of issue 2: `L⊗I + (connection terms) + M` on the unit icosphere of the
-/// given level (`10·4^level + 2` quaternion unknowns).
+/// given level (`10·4^level + 2` quaternion unknowns); [`connection_laplacian_on`] of it.
+pub fn connection_laplacian(level: u32) -> SparseMatrix<Quat<f64>> {
+    connection_laplacian_on(&icosphere(level))
+}
+
+/// The benchmark matrix of issue 2 on `mesh`: one quaternion unknown per vertex, stored
+/// entries on the vertex–edge graph (the pattern of the Laplacian, and of the relative Dirac
+/// pencil's `D* M_F D`, whose vertices are coupled when they share a face).
 ///
 /// Off-diagonal entries are `−w_ij r_ij` with `w_ij` the cotangent weight of edge `ij` and
 /// `r_ij = exp(c (f_j − f_i)/2)` a unit quaternion (`r_ji = r̄_ij`); diagonal entries are
 /// `Σ_j w_ij + Ā_i`. This is a quaternionic connection Laplacian (Hermitian positive
 /// semidefinite, `x* L x = Σ_ij w_ij |x_i − r_ij x_j|²`) plus the barycentric mass, hence
 /// Hermitian positive definite with genuinely quaternionic (not real) off-diagonal entries.
-pub fn connection_laplacian(level: u32) -> SparseMatrix<Quat<f64>> {
-    let mesh = icosphere(level);
-    let laplacian = cotan_laplacian(&mesh);
-    let mass = barycentric_masses(&mesh);
+pub fn connection_laplacian_on(mesh: &TriMesh) -> SparseMatrix<Quat<f64>> {
+    let laplacian = cotan_laplacian(mesh);
+    let mass = barycentric_masses(mesh);
     let n = mesh.vertex_count();
     let p = mesh.positions();
     let mut t = TripletMatrix::with_capacity(n, n, laplacian.nnz());

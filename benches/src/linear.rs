@@ -9,10 +9,12 @@ use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::{Col, Side, c64};
 use qscalar::{Quat, Scalar};
 use qsparse::embedding::complex_adjoint_vector;
-use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
+use qsparse::{FillOrdering, SparseCholesky, SparseMatrix, SymbolicCholesky};
 use serde_json::{Value, json};
+use std::sync::Arc;
+use std::time::Instant;
 
-use crate::time_median;
+use crate::{median, time_median};
 
 /// A deterministic test vector with entries of size about one.
 fn test_vector(n: usize) -> Vec<Quat<f64>> {
@@ -86,7 +88,7 @@ pub fn compare_cholesky(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
     let n = a.nrows();
     let b = test_vector(n);
 
-    let symbolic = std::sync::Arc::new(SymbolicCholesky::analyze(a).expect("square matrix"));
+    let symbolic = Arc::new(SymbolicCholesky::analyze(a).expect("square matrix"));
     let mut native = SparseCholesky::factorize_with_symbolic(symbolic.clone(), a)
         .expect("the benchmark matrix is positive definite");
     let native_factor = time_median(repeats, || {
@@ -158,4 +160,84 @@ pub fn compare_cholesky(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
             "native_memory_over_real_block": native_stats.factor_bytes as f64 / real_bytes as f64,
         },
     })
+}
+
+/// Relative residual `‖A x − b‖ / ‖b‖`.
+fn relative_residual(a: &SparseMatrix<Quat<f64>>, x: &[Quat<f64>], b: &[Quat<f64>]) -> f64 {
+    let mut ax = vec![Quat::default(); x.len()];
+    a.mul_vec(x, &mut ax).expect("square matrix");
+    let norm = |v: &mut dyn Iterator<Item = Quat<f64>>| v.map(|q| q.norm_sqr()).sum::<f64>().sqrt();
+    norm(&mut ax.iter().zip(b).map(|(&p, &q)| p - q)) / norm(&mut b.iter().copied())
+}
+
+/// The native factorisation with each fill-reducing ordering ([`FillOrdering::Amd`] and
+/// [`FillOrdering::NestedDissection`]) on the same matrix: fill (factor entries and bytes),
+/// median seconds of the symbolic analysis, of the numeric factorisation (the first one
+/// counts, so `repeats = 1` times each phase once) and of one solve, and the relative residual
+/// of each solution and their relative distance.
+pub fn compare_orderings(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
+    let n = a.nrows();
+    let b = test_vector(n);
+    let mut report = serde_json::Map::new();
+    let mut solutions = Vec::new();
+    for (name, ordering) in [
+        ("amd", FillOrdering::Amd),
+        ("nested_dissection", FillOrdering::NestedDissection),
+    ] {
+        let mut symbolic = None;
+        let mut symbolic_seconds = Vec::new();
+        for _ in 0..repeats.max(1) {
+            let start = Instant::now();
+            symbolic = Some(SymbolicCholesky::analyze_with_ordering(a, ordering).expect("square"));
+            symbolic_seconds.push(start.elapsed().as_secs_f64());
+        }
+        let symbolic = Arc::new(symbolic.expect("analysed at least once"));
+        let start = Instant::now();
+        let mut factor = SparseCholesky::factorize_with_symbolic(symbolic, a)
+            .expect("the benchmark matrix is positive definite");
+        let mut factor_seconds = vec![start.elapsed().as_secs_f64()];
+        for _ in 1..repeats.max(1) {
+            let start = Instant::now();
+            factor.refactorize(a).expect("positive definite");
+            factor_seconds.push(start.elapsed().as_secs_f64());
+        }
+        let mut x = b.clone();
+        let solve = time_median(repeats, || {
+            x.copy_from_slice(&b);
+            factor.solve_in_place(&mut x).expect("matching length");
+        });
+        let stats = factor.stats();
+        report.insert(
+            name.into(),
+            json!({
+                "factor_entries": stats.factor_entries,
+                "factor_megabytes": stats.factor_bytes as f64 / 1e6,
+                "supernodes": stats.supernodes,
+                "max_supernode_width": stats.max_supernode_width,
+                "median_seconds": {
+                    "symbolic": median(&mut symbolic_seconds),
+                    "factor": median(&mut factor_seconds),
+                    "solve": solve,
+                },
+                "relative_residual": relative_residual(a, &x, &b),
+            }),
+        );
+        solutions.push(x);
+    }
+    let difference = solutions[0]
+        .iter()
+        .zip(&solutions[1])
+        .map(|(&p, &q)| (p - q).norm_sqr())
+        .sum::<f64>()
+        .sqrt()
+        / solutions[0]
+            .iter()
+            .map(|q| q.norm_sqr())
+            .sum::<f64>()
+            .sqrt();
+    report.insert("case".into(), json!("ordering"));
+    report.insert("quaternion_unknowns".into(), json!(n));
+    report.insert("nnz".into(), json!(a.nnz()));
+    report.insert("solution_relative_difference".into(), json!(difference));
+    Value::Object(report)
 }

@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! compare spmv|cholesky [--level L | --size N] [--repeats R] [--single-thread]
+//! compare ordering [--level L | --size N | --mesh FILE] [--repeats R] [--single-thread]
 //! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R] [--single-thread]
 //!              [--operator laplace-quaternionic|OPERATOR]
 //! ```
@@ -14,7 +15,9 @@
 //! the icosphere with every backend and the real scalar Laplacian (`dirac_bench::eigs`), or,
 //! with `--operator OPERATOR` written as for `dirac` (`relative-dirac`, `family:0.5`, …), the
 //! spectrum of that operator on the icosphere or `--mesh FILE` with every backend
-//! (`dirac_bench::spectra`).
+//! (`dirac_bench::spectra`). `ordering` factors the same matrix (on the icosphere, or on
+//! `--mesh FILE` with `dirac_bench::connection_laplacian_on`) with AMD and with nested
+//! dissection and reports fill and times of each phase (`dirac_bench::linear::compare_orderings`).
 //! Defaults: `cholesky --level 4 --repeats 5` (2,562 unknowns, a few seconds), `-k 60`.
 //! faer always runs on one thread; our solver uses a second core where it pays
 //! (`qsparse::threads`) unless `--single-thread` is given, which makes every path sequential.
@@ -25,11 +28,11 @@ use dirac::generators::icosphere;
 use dirac::io::read_mesh;
 use dirac::spectrum::Operator;
 use dirac_bench::eigs::compare_eigs;
-use dirac_bench::linear::{compare_cholesky, compare_spmv};
+use dirac_bench::linear::{compare_cholesky, compare_orderings, compare_spmv};
 use dirac_bench::spectra::compare_spectrum;
-use dirac_bench::{connection_laplacian, icosphere_level_for};
+use dirac_bench::{connection_laplacian, connection_laplacian_on, icosphere_level_for};
 
-const USAGE: &str = "usage: compare [spmv|cholesky|eigs] [--level L | --size N | --mesh FILE] \
+const USAGE: &str = "usage: compare [spmv|cholesky|ordering|eigs] [--level L | --size N | --mesh FILE] \
                      [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family:T|…] \
                      [--single-thread]";
 
@@ -120,6 +123,15 @@ fn operator_spectrum(options: &Options) -> Result<serde_json::Value, String> {
     ))
 }
 
+/// The matrix of `compare ordering`: the connection Laplacian of `--mesh FILE` or of the
+/// icosphere.
+fn ordering_matrix(options: &Options) -> Result<qsparse::SparseMatrix<qscalar::Quat<f64>>, String> {
+    Ok(match &options.mesh {
+        Some(path) => connection_laplacian_on(&read_mesh(path).map_err(|e| e.to_string())?),
+        None => connection_laplacian(options.level),
+    })
+}
+
 fn main() -> ExitCode {
     faer::set_global_parallelism(faer::Par::Seq);
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -134,6 +146,13 @@ fn main() -> ExitCode {
     let report = match options.case.as_str() {
         "spmv" => compare_spmv(&connection_laplacian(options.level), options.repeats),
         "cholesky" => compare_cholesky(&connection_laplacian(options.level), options.repeats),
+        "ordering" => match ordering_matrix(&options) {
+            Ok(a) => compare_orderings(&a, options.repeats),
+            Err(message) => {
+                eprintln!("{message}");
+                return ExitCode::FAILURE;
+            }
+        },
         "eigs" if options.operator == "laplace-quaternionic" => {
             compare_eigs(options.level, options.k, options.repeats)
         }

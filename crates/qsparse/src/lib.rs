@@ -24,7 +24,9 @@ pub mod threads;
 mod triplet;
 pub mod vector;
 
-pub use cholesky::{CholeskyStats, SolveThreads, SparseCholesky, SymbolicCholesky};
+pub use cholesky::{
+    CholeskyStats, FillOrdering, SolveThreads, SparseCholesky, SymbolicCholesky, ordering,
+};
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
 pub use error::{CholeskyError, SparseError};

@@ -1,12 +1,15 @@
 //! Native supernodal sparse Cholesky `A = Pᵀ L Lᴴ P` for Hermitian positive-definite matrices
 //! over any scalar with `f64` components (real, complex, quaternion).
 //!
-//! * **Symbolic phase** ([`SymbolicCholesky`]): fill-reducing AMD ordering, elimination tree and
-//!   relaxed supernodes come from faer's analysis of the `n`-node pattern (for quaternions this
-//!   is the `n`-node graph, not the `4n` real one). On top of it we precompute where each input
-//!   value lands in the factor and, for every supernode, the list of earlier supernodes that
-//!   update it. Depends only on the pattern; reusable across refactorisations.
-//! * **Numeric phase** ([`SparseCholesky`]): left-looking supernodal factorisation. Each
+//! * **Symbolic phase** ([`SymbolicCholesky`]): a fill-reducing ordering of the `n`-node graph
+//!   of the pattern (for quaternions the `n`-node graph, not the `4n` real one): faer's AMD or
+//!   our nested dissection, chosen by [`FillOrdering`] (module [`ordering`]); the elimination
+//!   tree and relaxed supernodes come from faer's analysis of the permuted pattern. On top of
+//!   it we precompute where each input value lands in the factor and, for every supernode,
+//!   the list of earlier supernodes that update it. Depends only on the pattern; reusable
+//!   across refactorisations.
+//! * **Numeric phase** ([`SparseCholesky`]): left-looking supernodal factorisation, on two
+//!   threads over the two subtree groups when the tree splits ([`SolveThreads`]). Each
 //!   supernode gathers its input columns, subtracts the updates `L_d[tail] · L_d[cols]ᴴ` of its
 //!   descendants (dense `C = A Bᴴ`, see [`dense`]), then factors its dense block.
 //! * **Solves**: forward and backward substitution by supernodes, one or many right-hand sides.
@@ -15,11 +18,13 @@
 //! Hermitian. `docs/CHOLESKY.md` describes the algorithm.
 
 mod dense;
+pub mod ordering;
 mod partition;
 
 use std::sync::Arc;
 
 use faer::Side;
+use faer::perm::PermRef;
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
@@ -30,15 +35,19 @@ use qscalar::Scalar;
 use crate::vector::{axpy, axpy_two, inner, inner_two, prefetch_head};
 use crate::{CholeskyError, SparseMatrix};
 use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
+pub use ordering::FillOrdering;
+use ordering::{Graph, NESTED_DISSECTION_MIN_UNKNOWNS, nested_dissection};
 use partition::{TwoWaySplit, split_for_two_threads};
 
 /// Marks an input entry above the diagonal, which the factorisation does not read.
 const SKIPPED: usize = usize::MAX;
-/// With [`SolveThreads::Automatic`], factors with at least this many stored reals are solved
-/// on two threads: below it, starting a thread costs more than it saves.
+/// With [`SolveThreads::Automatic`], factors with at least this many stored reals are computed
+/// and solved on two threads: below it, starting a thread costs more than it saves.
 const PARALLEL_SOLVE_REALS: usize = 1 << 18;
 
-/// How the triangular solves use threads.
+/// How the numeric factorisation and the triangular solves use threads: two threads work on
+/// the two groups of subtrees of the elimination tree ([`CholeskyStats::split_columns`]), then
+/// one on the supernodes above them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SolveThreads {
     /// The calling thread only.
@@ -65,6 +74,8 @@ struct Update {
 #[derive(Debug, Clone)]
 pub struct SymbolicCholesky {
     n: usize,
+    /// The ordering used ([`FillOrdering::Automatic`] resolved).
+    ordering: FillOrdering,
     /// `perm[new] = old`: row/column `new` of `P A Pᵀ` is row/column `perm[new]` of `A`.
     perm: Vec<usize>,
     /// Supernode `s` holds the columns `supernode_begin[s]..supernode_begin[s + 1]`.
@@ -109,9 +120,18 @@ pub struct CholeskyStats {
 }
 
 impl SymbolicCholesky {
-    /// Analyses the pattern of `a` (square; only the lower triangle is read): AMD ordering,
-    /// supernodes, and the scatter plan for numeric factorisations of matrices with this pattern.
+    /// Analyses the pattern of `a` (square; only the lower triangle is read): fill-reducing
+    /// ordering ([`FillOrdering::Automatic`]), supernodes, and the scatter plan for numeric
+    /// factorisations of matrices with this pattern.
     pub fn analyze<T: Scalar>(a: &SparseMatrix<T>) -> Result<Self, CholeskyError> {
+        Self::analyze_with_ordering(a, FillOrdering::default())
+    }
+
+    /// [`Self::analyze`] with the given fill-reducing ordering.
+    pub fn analyze_with_ordering<T: Scalar>(
+        a: &SparseMatrix<T>,
+        ordering: FillOrdering,
+    ) -> Result<Self, CholeskyError> {
         let n = a.nrows();
         if a.ncols() != n {
             return Err(CholeskyError::NotSquare {
@@ -119,10 +139,33 @@ impl SymbolicCholesky {
                 ncols: a.ncols(),
             });
         }
-        let (supernodes, split) = if n == 0 {
-            ((vec![], vec![], vec![0], vec![0], vec![]), None)
+        let (ordering, supernodes) = if n == 0 {
+            let ordering = match ordering {
+                FillOrdering::Automatic => FillOrdering::Amd,
+                explicit => explicit,
+            };
+            (ordering, (vec![], vec![], vec![0], vec![0], vec![]))
         } else {
-            split_supernodes(faer_supernodes(a)?)
+            match ordering {
+                FillOrdering::Automatic if n < NESTED_DISSECTION_MIN_UNKNOWNS => {
+                    (FillOrdering::Amd, faer_supernodes(a, FillOrdering::Amd)?)
+                }
+                FillOrdering::Automatic => {
+                    let amd = faer_supernodes(a, FillOrdering::Amd)?;
+                    let dissection = faer_supernodes(a, FillOrdering::NestedDissection)?;
+                    if factor_flops(&dissection) < factor_flops(&amd) {
+                        (FillOrdering::NestedDissection, dissection)
+                    } else {
+                        (FillOrdering::Amd, amd)
+                    }
+                }
+                explicit => (explicit, faer_supernodes(a, explicit)?),
+            }
+        };
+        let (supernodes, split) = if n == 0 {
+            (supernodes, None)
+        } else {
+            split_supernodes(supernodes)
         };
         let (perm, perm_inv, supernode_begin, pattern_ptr, pattern) = supernodes;
         let n_super = supernode_begin.len() - 1;
@@ -200,6 +243,7 @@ impl SymbolicCholesky {
 
         Ok(Self {
             n,
+            ordering,
             perm,
             supernode_begin,
             pattern_ptr,
@@ -219,6 +263,12 @@ impl SymbolicCholesky {
     /// Dimension `n`.
     pub fn n(&self) -> usize {
         self.n
+    }
+
+    /// The fill-reducing ordering used: [`FillOrdering::Amd`] or
+    /// [`FillOrdering::NestedDissection`] (what [`FillOrdering::Automatic`] chose).
+    pub fn ordering(&self) -> FillOrdering {
+        self.ordering
     }
 
     /// The fill-reducing permutation, `perm()[new] = old`.
@@ -261,23 +311,40 @@ impl SymbolicCholesky {
     }
 }
 
-/// Runs faer's AMD + supernodal symbolic analysis on the pattern of `a`; returns
+/// Runs faer's supernodal symbolic analysis on the pattern of `a` with `ordering` (AMD by
+/// faer itself, nested dissection given to it as a custom permutation); returns
 /// `(perm, perm_inv, supernode_begin, pattern_ptr, pattern)`.
 type Supernodes = (Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>, Vec<usize>);
-fn faer_supernodes<T: Scalar>(a: &SparseMatrix<T>) -> Result<Supernodes, CholeskyError> {
+fn faer_supernodes<T: Scalar>(
+    a: &SparseMatrix<T>,
+    ordering: FillOrdering,
+) -> Result<Supernodes, CholeskyError> {
     let n = a.nrows();
     let symbolic_pattern = SymbolicSparseColMatRef::new_checked(n, n, &a.col_ptr, None, &a.row_idx);
     let params = CholeskySymbolicParams {
         supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
         ..Default::default()
     };
-    let symbolic = factorize_symbolic_cholesky(
-        symbolic_pattern,
-        Side::Lower,
-        SymmetricOrdering::Amd,
-        params,
-    )
-    .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
+    let custom = match ordering {
+        FillOrdering::NestedDissection => {
+            let forward = nested_dissection(&Graph::from_lower(n, &a.col_ptr, &a.row_idx))?;
+            let mut inverse = vec![0usize; n];
+            for (new, &old) in forward.iter().enumerate() {
+                inverse[old] = new;
+            }
+            Some((forward, inverse))
+        }
+        FillOrdering::Amd | FillOrdering::Automatic => None,
+    };
+    let faer_ordering = match &custom {
+        Some((forward, inverse)) => {
+            SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, n))
+        }
+        None => SymmetricOrdering::Amd,
+    };
+    let symbolic =
+        factorize_symbolic_cholesky(symbolic_pattern, Side::Lower, faer_ordering, params)
+            .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
     let (perm, perm_inv) = match symbolic.perm() {
         Some(p) => {
             let (fwd, inv) = p.arrays();
@@ -307,6 +374,23 @@ fn faer_supernodes<T: Scalar>(a: &SparseMatrix<T>) -> Result<Supernodes, Cholesk
         }
     }
     Ok((perm, perm_inv, supernode_begin, pattern_ptr, pattern))
+}
+
+/// Multiply-adds of a numeric factorisation with these supernodes, `Σ_j c_j²` over the columns
+/// `j` with `c_j` the stored rows of column `j` (from its diagonal down): the cost model by
+/// which [`FillOrdering::Automatic`] chooses.
+fn factor_flops(supernodes: &Supernodes) -> f64 {
+    let (_, _, begin, pattern_ptr, _) = supernodes;
+    (0..begin.len() - 1)
+        .map(|s| {
+            let w = begin[s + 1] - begin[s];
+            let below = (pattern_ptr[s + 1] - pattern_ptr[s]) as f64;
+            // Column j of the block holds w − j + below rows.
+            (0..w)
+                .map(|j| ((w - j) as f64 + below).powi(2))
+                .sum::<f64>()
+        })
+        .sum()
 }
 
 /// Renumbers the supernodes for two threads (module [`partition`]) when the elimination tree
@@ -414,7 +498,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         Ok(this)
     }
 
-    /// Recomputes the factor for new values of `a` with the analysed pattern, reusing storage.
+    /// Recomputes the factor for new values of `a` with the analysed pattern, reusing storage
+    /// (on two threads as set by [`Self::set_solve_threads`]).
     pub fn refactorize(&mut self, a: &SparseMatrix<T>) -> Result<(), CholeskyError> {
         let sym = &*self.symbolic;
         if a.nrows() != sym.n
@@ -424,6 +509,7 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         {
             return Err(CholeskyError::PatternMismatch);
         }
+        let split = self.two_threads();
         let values = &mut self.values;
         values.fill(T::zero());
         for (k, &v) in a.values.iter().enumerate() {
@@ -441,59 +527,29 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             values[target] += if sym.input_conj[k] { v.conj() } else { v };
         }
 
-        let mut global_to_local = vec![0usize; sym.n];
-        let mut update = vec![T::zero(); sym.max_update_len];
-        let mut panel_update = Vec::new();
-        let mut work = GemmWorkspace::default();
-        for s in 0..sym.supernodes() {
-            let (begin, w, rows) = sym.supernode(s);
-            let m = w + rows.len();
-            for (r, &row) in rows.iter().enumerate() {
-                global_to_local[row] = w + r;
+        match split {
+            Some(split) => {
+                let (first_end, second_end, _, _) = sym.bounds(Some(split));
+                let (low, _) = values.split_at_mut(sym.value_ptr[second_end]);
+                let (first, second) = low.split_at_mut(sym.value_ptr[first_end]);
+                let (first, second) = std::thread::scope(|scope| {
+                    let helper = scope.spawn(|| {
+                        factor_range(sym, first_end..second_end, second, sym.value_ptr[first_end])
+                    });
+                    let first = factor_range(sym, 0..first_end, first, 0);
+                    (first, helper.join().expect("factorisation thread"))
+                });
+                first.and(second)?;
+                factor_range(sym, second_end..sym.supernodes(), values, 0)
             }
-            let (done, rest) = values.split_at_mut(sym.value_ptr[s]);
-            let target = &mut rest[..m * w];
-            for u in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
-                let (_, wd, rows_d) = sym.supernode(u.source);
-                let md = wd + rows_d.len();
-                let source = &done[sym.value_ptr[u.source]..sym.value_ptr[u.source] + md * wd];
-                let tail = rows_d.len() - u.start;
-                let first = &source[wd + u.start..];
-                gemm_adjoint(
-                    &mut update,
-                    first,
-                    md,
-                    first,
-                    md,
-                    (tail, u.len, wd),
-                    &mut work,
-                );
-                for jj in 0..u.len {
-                    let col = rows_d[u.start + jj] - begin;
-                    // Rows above the diagonal (ii < jj) would land in the unused upper triangle.
-                    for ii in jj..tail {
-                        let row = rows_d[u.start + ii];
-                        let local = if row < begin + w {
-                            row - begin
-                        } else {
-                            global_to_local[row]
-                        };
-                        target[col * m + local] -= update[jj * tail + ii];
-                    }
-                }
-            }
-            factor_supernode(target, m, w, &mut work, &mut panel_update).map_err(
-                |(local, pivot)| CholeskyError::NotPositiveDefinite {
-                    index: sym.perm[begin + local],
-                    pivot,
-                },
-            )?;
+            None => factor_range(sym, 0..sym.supernodes(), values, 0),
         }
-        Ok(())
     }
 
-    /// Sets how the solves use threads (default [`SolveThreads::Automatic`]). The results do
-    /// not depend on it beyond rounding: two threads add the same terms in another order.
+    /// Sets how later refactorisations and the solves use threads (default
+    /// [`SolveThreads::Automatic`], which the first factorisation uses). The factor does not
+    /// depend on it; the solutions only up to rounding: two threads add the same terms in
+    /// another order.
     pub fn set_solve_threads(&mut self, threads: SolveThreads) {
         self.threads = threads;
     }
@@ -809,4 +865,68 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             y[begin..begin + w].copy_from_slice(&g[..w]);
         }
     }
+}
+
+/// Left-looking factorisation of `supernodes` (in order): each gathers the updates of its
+/// descendants and factors its block. `values` holds the factor values from offset `offset`
+/// on and contains the blocks of these supernodes and of all their descendants (a subtree
+/// group of a [`TwoWaySplit`] holds its own descendants; the top needs everything). Groups
+/// run the same operations in the same order on one thread or two, so the factor does not
+/// depend on the threads.
+fn factor_range<T: Scalar<Real = f64>>(
+    sym: &SymbolicCholesky,
+    supernodes: std::ops::Range<usize>,
+    values: &mut [T],
+    offset: usize,
+) -> Result<(), CholeskyError> {
+    let mut global_to_local = vec![0usize; sym.n];
+    let mut update = vec![T::zero(); sym.max_update_len];
+    let mut panel_update = Vec::new();
+    let mut work = GemmWorkspace::default();
+    for s in supernodes {
+        let (begin, w, rows) = sym.supernode(s);
+        let m = w + rows.len();
+        for (r, &row) in rows.iter().enumerate() {
+            global_to_local[row] = w + r;
+        }
+        let (done, rest) = values.split_at_mut(sym.value_ptr[s] - offset);
+        let target = &mut rest[..m * w];
+        for u in &sym.updates[sym.update_ptr[s]..sym.update_ptr[s + 1]] {
+            let (_, wd, rows_d) = sym.supernode(u.source);
+            let md = wd + rows_d.len();
+            let source_begin = sym.value_ptr[u.source] - offset;
+            let source = &done[source_begin..source_begin + md * wd];
+            let tail = rows_d.len() - u.start;
+            let first = &source[wd + u.start..];
+            gemm_adjoint(
+                &mut update,
+                first,
+                md,
+                first,
+                md,
+                (tail, u.len, wd),
+                &mut work,
+            );
+            for jj in 0..u.len {
+                let col = rows_d[u.start + jj] - begin;
+                // Rows above the diagonal (ii < jj) would land in the unused upper triangle.
+                for ii in jj..tail {
+                    let row = rows_d[u.start + ii];
+                    let local = if row < begin + w {
+                        row - begin
+                    } else {
+                        global_to_local[row]
+                    };
+                    target[col * m + local] -= update[jj * tail + ii];
+                }
+            }
+        }
+        factor_supernode(target, m, w, &mut work, &mut panel_update).map_err(
+            |(local, pivot)| CholeskyError::NotPositiveDefinite {
+                index: sym.perm[begin + local],
+                pivot,
+            },
+        )?;
+    }
+    Ok(())
 }

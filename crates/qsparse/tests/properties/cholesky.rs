@@ -202,13 +202,24 @@ fn non_finite_is_rejected<T: ScalarStrategy>(
     Ok(())
 }
 
-/// The half-solves and the full solve on two threads agree with one thread (the same sums in
-/// another order) and solve the system; returns whether the tree split at all.
+/// The factorisation on two threads gives exactly the one-thread factor (the same
+/// operations; compared through one-thread solves, bit for bit), and the half-solves and the
+/// full solve on two threads agree with one thread (the same sums in another order) and solve
+/// the system; returns whether the tree split at all.
 fn two_threads_agree<T: Scalar<Real = f64>>(a: &SparseMatrix<T>, b: &[T]) -> bool {
     let mut one = SparseCholesky::factorize(a).unwrap();
     one.set_solve_threads(SolveThreads::One);
+    one.refactorize(a).unwrap();
     let mut two = one.clone();
     two.set_solve_threads(SolveThreads::Two);
+    two.refactorize(a).unwrap();
+    let mut factored_on_two = two.clone();
+    factored_on_two.set_solve_threads(SolveThreads::One);
+    assert_eq!(
+        factored_on_two.solve(b).unwrap(),
+        one.solve(b).unwrap(),
+        "the factor computed on two threads differs"
+    );
     for half in [
         SparseCholesky::<T>::solve_lower_in_place,
         SparseCholesky::<T>::solve_upper_in_place,
