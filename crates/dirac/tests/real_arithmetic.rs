@@ -28,23 +28,21 @@ fn solve(mesh: &TriMesh, operator: Operator, k: usize, backend: SolverBackend) -
 }
 
 /// A torus with a random tessellation: no symmetry, so every eigenvalue is simple.
-fn irregular_torus() -> TriMesh {
-    let mut torus = Torus::new(1.0, 0.4, 14, 9);
-    torus.tessellation = Some(RandomTessellation {
-        jitter: 0.2,
-        seed: 7,
-    });
+fn irregular_torus(major_radius: f64, seed: u64) -> TriMesh {
+    let mut torus = Torus::new(major_radius, 0.4, 14, 9);
+    torus.tessellation = Some(RandomTessellation { jitter: 0.2, seed });
     torus.mesh().unwrap()
 }
 
-/// A level-2 icosphere and the irregular torus moved away from it: one mesh, two components.
+/// Two irregular tori of different sizes, one moved away from the other: one mesh, two
+/// components, simple eigenvalues (so that no eigenspace is cut at `k`).
 fn two_components() -> TriMesh {
-    let (sphere, torus) = (icosphere(2), irregular_torus());
-    let offset = sphere.vertex_count();
-    let mut positions = sphere.positions().to_vec();
-    positions.extend(torus.positions().iter().map(|p| [p[0] + 5.0, p[1], p[2]]));
-    let mut faces = sphere.faces().to_vec();
-    faces.extend((torus.faces().iter()).map(|f| [f[0] + offset, f[1] + offset, f[2] + offset]));
+    let (first, second) = (irregular_torus(1.0, 7), irregular_torus(1.3, 8));
+    let offset = first.vertex_count();
+    let mut positions = first.positions().to_vec();
+    positions.extend(second.positions().iter().map(|p| [p[0] + 5.0, p[1], p[2]]));
+    let mut faces = first.faces().to_vec();
+    faces.extend((second.faces().iter()).map(|f| [f[0] + offset, f[1] + offset, f[2] + offset]));
     TriMesh::new(positions, faces).unwrap()
 }
 
@@ -138,7 +136,7 @@ fn real_path_matches_the_quaternionic_path_on_spot() {
 
 #[test]
 fn real_path_matches_dense_solves_and_the_quaternionic_path_on_generated_meshes() {
-    let torus = irregular_torus();
+    let torus = irregular_torus(1.0, 7);
     // The icosphere's eigenvalues are multiple (1, 3, 5, 7 for l = 0..3 of the sphere):
     // k = 16 takes whole eigenspaces.
     let sphere = icosphere(2);
