@@ -13,8 +13,9 @@
   eigenvalues nearest it: the kernel (one zero per component) and the smallest nonzero ones,
   which is what ``-k K`` returns for Laplace (the kernel is listed by default).
 
-Prints the median of each over the repetitions, the ratios, and the largest relative
-difference of the eigenvalues against libigl (the kernel's zeros compared in absolute terms,
+Prints the median wall time of each over the repetitions, the median CPU time (user + system,
+all threads; for the command line that of the child process), which a loaded machine disturbs
+less, the ratios, and the largest relative difference of the eigenvalues against libigl (the kernel's zeros compared in absolute terms,
 relative to the largest eigenvalue).
 
     python benches/python/laplace_vs_libigl.py --dirac target/release/dirac -k 20 MESH...
@@ -24,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import resource
 import statistics
 import subprocess
 import time
@@ -58,10 +60,17 @@ def libigl_spectrum(path: str, k: int, tol: float) -> np.ndarray:
     return np.sort(values)
 
 
-def timed(function, *args) -> tuple[float, np.ndarray]:
-    start = time.perf_counter()
+def cpu_seconds() -> float:
+    """User + system time of this process and of its finished children."""
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+def timed(function, *args) -> tuple[float, float, np.ndarray]:
+    start, cpu = time.perf_counter(), cpu_seconds()
     values = function(*args)
-    return time.perf_counter() - start, values
+    return time.perf_counter() - start, cpu_seconds() - cpu, values
 
 
 def difference(values: np.ndarray, truth: np.ndarray) -> float:
@@ -93,20 +102,29 @@ def main() -> None:
     runners["libigl"] = lambda path: libigl_spectrum(path, args.k, args.tol)
     for path in args.meshes:
         times: dict[str, list[float]] = {name: [] for name in runners}
+        cpu: dict[str, list[float]] = {name: [] for name in runners}
         values = {}
         for _ in range(args.repeats):
             for name, runner in runners.items():
-                t, v = timed(runner, path)
+                t, c, v = timed(runner, path)
                 times[name].append(t)
+                cpu[name].append(c)
                 values[name] = v
         median = {name: statistics.median(ts) for name, ts in times.items()}
+        median_cpu = {name: statistics.median(cs) for name, cs in cpu.items()}
         row = {
             "mesh": path,
             "k": args.k,
             "repeats": args.repeats,
             "median_seconds": median,
+            "median_cpu_seconds": median_cpu,
             "libigl_over": {
                 name: median["libigl"] / median[name] for name in runners if name != "libigl"
+            },
+            "libigl_over_cpu": {
+                name: median_cpu["libigl"] / median_cpu[name]
+                for name in runners
+                if name != "libigl"
             },
             "largest_relative_difference_to_libigl": {
                 name: difference(values[name], values["libigl"])
