@@ -79,8 +79,8 @@ pub(super) struct PencilSpec<T> {
 /// and no quaternionic copy of its matrices is built (four times the memory and the assembly
 /// time). Scanning assembled quaternionic matrices for zero imaginary parts would instead need
 /// that copy first, and would decide by a floating-point test what is known by construction.
-/// The Dirac operators and the family are quaternionic even where a mesh makes some of their
-/// entries real.
+/// The Dirac operators and the family for `τ > 0` (at `τ = 0` it is Laplace) are quaternionic
+/// even where a mesh makes some of their entries real.
 #[derive(Debug, Clone)]
 pub(super) enum OperatorPencil {
     /// A real operator: `P` and `Q` real symmetric; its quaternionic form is `P⊗I`, `Q⊗I`.
