@@ -132,8 +132,14 @@ pub(crate) struct EdgeUse {
 
 /// The uses of every edge of `faces`, sorted by edge and then face, so each edge's uses are
 /// contiguous (group them with `chunk_by(same_edge)`).
+///
+/// A counting sort by the smaller vertex, then a sort of each vertex's few uses by the larger
+/// one: both stable, and the uses are generated in face order, so the result is ordered by
+/// `(lo, hi, face)` in linear time. A comparison sort of all `3|F|` uses cost more than any
+/// other step of reading a mesh, and every mesh is validated, and its topology found, through
+/// this function.
 pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
-    let mut uses: Vec<EdgeUse> = faces
+    let uses: Vec<EdgeUse> = faces
         .iter()
         .enumerate()
         .flat_map(|(face, f)| {
@@ -150,8 +156,25 @@ pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
             })
         })
         .collect();
-    uses.sort_unstable_by_key(|u| (u.lo, u.hi, u.face));
-    uses
+    let buckets = uses.iter().map(|u| u.lo + 1).max().unwrap_or(0);
+    let mut start = vec![0; buckets + 1];
+    for u in &uses {
+        start[u.lo + 1] += 1;
+    }
+    for v in 0..buckets {
+        start[v + 1] += start[v];
+    }
+    let mut next = start.clone();
+    let mut order = vec![0; uses.len()];
+    for (i, u) in uses.iter().enumerate() {
+        order[next[u.lo]] = i;
+        next[u.lo] += 1;
+    }
+    let mut sorted: Vec<EdgeUse> = order.into_iter().map(|i| uses[i]).collect();
+    for v in 0..buckets {
+        sorted[start[v]..start[v + 1]].sort_by_key(|u| u.hi);
+    }
+    sorted
 }
 
 pub(crate) fn same_edge(a: &EdgeUse, b: &EdgeUse) -> bool {
@@ -472,11 +495,7 @@ impl TriMesh {
     /// The boundary edges, each directed as its only face traverses it (so the surface lies to
     /// the left, seen from the side the normals point to), in the order of [`TriMesh::edges`].
     pub fn boundary_edges(&self) -> Vec<[usize; 2]> {
-        self.edges()
-            .into_iter()
-            .filter(|e| e.opposite_face.is_none())
-            .map(|e| e.vertices)
-            .collect()
+        boundary_of(&self.edges())
     }
 
     /// The same surface with every face's orientation reversed (`[i, j, k] → [i, k, j]`).
@@ -513,5 +532,54 @@ impl TriMesh {
     /// ([`Quat::rotate_vector`]; a non-unit `r` also scales by `|r|²`).
     pub fn rotated(&self, r: Quat<f64>) -> Result<Self, MeshError> {
         self.map_positions(|p| r.rotate_vector(p))
+    }
+}
+
+/// The boundary edges among `edges` (those with one face), directed as that face traverses
+/// them, in the given order.
+pub(crate) fn boundary_of(edges: &[Edge]) -> Vec<[usize; 2]> {
+    (edges.iter())
+        .filter(|e| e.opposite_face.is_none())
+        .map(|e| e.vertices)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qscalar::random::SplitMix64;
+
+    /// The linear-time order of [`edge_uses`] is the `(lo, hi, face)` order a comparison sort
+    /// gives, on faces with random vertices (shared edges, repeated faces, gaps in the
+    /// numbering, vertices used by no face).
+    #[test]
+    fn edge_uses_are_sorted_by_edge_then_face() {
+        let mut random = SplitMix64::new(11);
+        for (faces, vertices) in [(0, 1), (1, 3), (50, 8), (400, 60), (2000, 5000)] {
+            let list: Vec<[usize; 3]> = (0..faces)
+                .map(|_| {
+                    let mut vertex = || (random.next_u64() % vertices as u64) as usize;
+                    [vertex(), vertex(), vertex()]
+                })
+                .collect();
+            let keys = |uses: &[EdgeUse]| -> Vec<(usize, usize, usize, bool, [usize; 2])> {
+                (uses.iter())
+                    .map(|u| (u.lo, u.hi, u.face, u.forward, u.corners))
+                    .collect()
+            };
+            // Every (face, corner) edge, in face order, sorted stably by a comparison sort.
+            let mut expected: Vec<_> = (list.iter().enumerate())
+                .flat_map(|(face, f)| {
+                    (0..3).map(move |c| {
+                        let (a, b) = (f[c], f[(c + 1) % 3]);
+                        let (ca, cb) = (3 * face + c, 3 * face + (c + 1) % 3);
+                        let corners = if a < b { [ca, cb] } else { [cb, ca] };
+                        (a.min(b), a.max(b), face, a < b, corners)
+                    })
+                })
+                .collect();
+            expected.sort_by_key(|&(lo, hi, face, ..)| (lo, hi, face));
+            assert_eq!(keys(&edge_uses(&list)), expected, "{faces} faces");
+        }
     }
 }

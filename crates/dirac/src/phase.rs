@@ -4,21 +4,25 @@
 //! paper fixes it with `q = Σ_p Ā_p φ_p⁻¹`, `φ ← φ q/|q|` (right multiplication), which is
 //! equivariant: `φ c` gives `q' ∝ c⁻¹ q` and the same canonical form. Under a rotation of the
 //! mesh `f ↦ r f r̄` the canonical forms satisfy `φ̃ = r φ r̄`.
+//!
+//! Written once over [`Scalar`]: a real eigenvector (of a real operator solved in real
+//! arithmetic) is a quaternionic one with zero imaginary part, its `q` is real and the phase is
+//! its sign, exactly what the quaternionic formulas give on it.
 
-use qscalar::{Quat, Scalar};
+use qscalar::Scalar;
 use qsparse::vector::axpy;
 
 /// `⟨x, y⟩_M = Σ_p Ā_p conj(x_p) y_p`.
-pub fn mass_inner(masses: &[f64], x: &[Quat<f64>], y: &[Quat<f64>]) -> Quat<f64> {
+pub fn mass_inner<T: Scalar<Real = f64>>(masses: &[f64], x: &[T], y: &[T]) -> T {
     masses
         .iter()
         .zip(x.iter().zip(y))
-        .map(|(&m, (&a, &b))| (a.conj() * b) * m)
+        .map(|(&m, (&a, &b))| (a.conj() * b).scale(m))
         .sum()
 }
 
 /// `‖x‖_M = sqrt(Σ_p Ā_p |x_p|²)`.
-pub fn mass_norm(masses: &[f64], x: &[Quat<f64>]) -> f64 {
+pub fn mass_norm<T: Scalar<Real = f64>>(masses: &[f64], x: &[T]) -> f64 {
     masses
         .iter()
         .zip(x)
@@ -31,15 +35,17 @@ pub fn mass_norm(masses: &[f64], x: &[Quat<f64>]) -> f64 {
 /// `q = Σ_p Ā_p φ_p⁻¹` over the vertices with `|φ_p|` above `10⁻⁸ max|φ|` (near-zeros would
 /// dominate the sum), `φ ← φ q/|q|`, then `φ ← φ / ‖φ‖_M`. When `q` vanishes (a real
 /// Laplacian mode can have `Σ Ā/g = 0`) only the normalisation is applied.
-pub fn canonicalize(masses: &[f64], phi: &mut [Quat<f64>]) {
-    let largest = phi.iter().map(|q| q.norm()).fold(0.0, f64::max);
-    let q: Quat<f64> = masses
+pub fn canonicalize<T: Scalar<Real = f64>>(masses: &[f64], phi: &mut [T]) {
+    let largest = phi.iter().map(|q| q.abs()).fold(0.0, f64::max);
+    let q: T = masses
         .iter()
         .zip(phi.iter())
-        .filter(|(_, p)| p.norm() > 1e-8 * largest)
-        .map(|(&m, &p)| p.inv() * m)
+        .filter(|(_, p)| p.abs() > 1e-8 * largest)
+        .map(|(&m, &p)| p.inv().scale(m))
         .sum();
-    if let Some(unit) = q.try_normalize(1e-300) {
+    let size = q.abs();
+    if size > 1e-300 {
+        let unit = q.scale(1.0 / size);
         for p in phi.iter_mut() {
             *p *= unit;
         }
@@ -47,7 +53,7 @@ pub fn canonicalize(masses: &[f64], phi: &mut [Quat<f64>]) {
     let norm = mass_norm(masses, phi);
     if norm > 0.0 {
         for p in phi.iter_mut() {
-            *p /= norm;
+            *p = p.scale(1.0 / norm);
         }
     }
 }
@@ -56,10 +62,10 @@ pub fn canonicalize(masses: &[f64], phi: &mut [Quat<f64>]) {
 /// given order, within `relative_gap · max(|λ|, 1)`), the eigenvectors by Gram–Schmidt with
 /// coefficients on the right (`v ← v − u ⟨u, v⟩_M`), then puts each in canonical phase.
 /// Eigenvectors of distinct eigenvalues are left as the pencil made them.
-pub fn orthonormalize_and_canonicalize(
+pub fn orthonormalize_and_canonicalize<T: Scalar<Real = f64>>(
     masses: &[f64],
     values: &[f64],
-    vectors: &mut [Vec<Quat<f64>>],
+    vectors: &mut [Vec<T>],
     relative_gap: f64,
 ) {
     let mut start = 0;
@@ -79,7 +85,7 @@ pub fn orthonormalize_and_canonicalize(
             }
             let norm = mass_norm(masses, v);
             if norm > 0.0 {
-                v.iter_mut().for_each(|p| *p /= norm);
+                v.iter_mut().for_each(|p| *p = p.scale(1.0 / norm));
             }
         }
         start = end;

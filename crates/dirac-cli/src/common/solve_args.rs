@@ -118,7 +118,8 @@ pub struct SolveArgs {
 /// `--backend` values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum BackendArg {
-    /// Quaternion matrices and the native Cholesky.
+    /// The native Cholesky on quaternion matrices (real ones, in real arithmetic, for laplace,
+    /// anisotropic-laplace and modified-dirichlet).
     Native,
     /// 4n×4n real-block expansion.
     RealBlock,

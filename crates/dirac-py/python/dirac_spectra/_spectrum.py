@@ -178,8 +178,10 @@ def spectrum(
             each principal curvature direction (0: Laplace).
         normalize: ``"unit-area"`` scales the mesh to total area 1 first.
         well: a :class:`PotentialWell` (or its radius) restricting the operator to a region.
-        backend: the eigensolver's arithmetic: native quaternions, or the ``4n × 4n`` real block
-            or ``2n × 2n`` complex adjoint with faer's Cholesky (baselines).
+        backend: the eigensolver's arithmetic: native quaternions (real arithmetic for the real
+            operators ``laplace``, ``anisotropic-laplace`` and ``modified-dirichlet``), or the
+            ``4n × 4n`` real block or ``2n × 2n`` complex adjoint with faer's Cholesky
+            (baselines).
         tolerance: relative residual the eigensolver aims for.
         seed: seed of the eigensolver's start vectors.
         include_kernel: list the exact kernel's eigenvalue 0 among the ``k``; ``None``: the

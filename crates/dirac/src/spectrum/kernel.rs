@@ -13,8 +13,8 @@
 //!   other eigenvectors relate to it. Unless `Q 𝟙_S = 0`, every eigenvector with `λ ≠ 0`
 //!   satisfies `(Q 𝟙_S)* x = 0`, because `𝟙_S* P x = 0 = λ 𝟙_S* Q x`.
 
-use qscalar::Quat;
-use qsparse::{SparseMatrix, TripletMatrix};
+use qscalar::Scalar;
+use qsparse::SparseMatrix;
 
 use crate::TriMesh;
 use crate::disjoint_sets::DisjointSets;
@@ -38,24 +38,25 @@ pub(super) enum Coupling {
     Oblique,
 }
 
-/// The constant function of one connected piece of the non-flat vertices.
+/// The constant function of one connected piece of the non-flat vertices, for a pencil over
+/// the scalar `T`.
 #[derive(Debug, Clone)]
-pub(super) struct ConstantMode {
+pub(super) struct ConstantMode<T> {
     /// The vertices of the piece, ascending.
     pub vertices: Vec<usize>,
     /// How the other eigenvectors relate to it.
     pub coupling: Coupling,
     /// `g = Q 𝟙_S`, full length.
-    pub image: Vec<Quat<f64>>,
+    pub image: Vec<T>,
 }
 
 /// The kernel of a pencil that is known exactly: flat vertices and constant modes.
 #[derive(Debug, Clone)]
-pub(super) struct ExactKernel {
+pub(super) struct ExactKernel<T> {
     /// Vertices whose every face is flat (ascending).
     pub flat_vertices: Vec<usize>,
     /// The constant modes, one per piece whose constant the stiffness annihilates.
-    pub constants: Vec<ConstantMode>,
+    pub constants: Vec<ConstantMode<T>>,
 }
 
 /// How the kernel was found, as reported with a [`super::Spectrum`].
@@ -69,7 +70,7 @@ pub struct KernelSummary {
     pub constants: usize,
 }
 
-impl ExactKernel {
+impl<T: Scalar<Real = f64>> ExactKernel<T> {
     /// No known kernel (the literal family, whose pencil is regular).
     pub fn none() -> Self {
         Self {
@@ -83,8 +84,8 @@ impl ExactKernel {
     pub fn find(
         mesh: &TriMesh,
         flat: &[bool],
-        stiffness: &SparseMatrix<Quat<f64>>,
-        coupling: &SparseMatrix<Quat<f64>>,
+        stiffness: &SparseMatrix<T>,
+        coupling: &SparseMatrix<T>,
     ) -> Self {
         let n = mesh.vertex_count();
         let mut touches_curved = vec![false; n];
@@ -132,7 +133,7 @@ impl ExactKernel {
 
     /// A mass-orthonormal basis of the kernel, in canonical phase (real and positive): the
     /// constants `𝟙_S / ‖𝟙_S‖_M` first, then `δ_p / √Ā_p` by vertex. At most `count` vectors.
-    pub fn basis(&self, masses: &[f64], count: usize) -> Vec<Vec<Quat<f64>>> {
+    pub fn basis(&self, masses: &[f64], count: usize) -> Vec<Vec<T>> {
         let constants = self.constants.iter().map(|mode| mode.vertices.as_slice());
         let vertices = self.flat_vertices.iter().map(std::slice::from_ref);
         constants
@@ -140,10 +141,10 @@ impl ExactKernel {
             .take(count)
             .map(|support| {
                 let total: f64 = support.iter().map(|&p| masses[p]).sum();
-                let mut x = vec![Quat::default(); masses.len()];
+                let mut x = vec![T::zero(); masses.len()];
                 support
                     .iter()
-                    .for_each(|&p| x[p] = Quat::from_real(1.0 / total.sqrt()));
+                    .for_each(|&p| x[p] = T::from_real(1.0 / total.sqrt()));
                 x
             })
             .collect()
@@ -152,12 +153,12 @@ impl ExactKernel {
 
 /// The [`Coupling`] of `𝟙_S` through `Q` (`g = Q 𝟙_S`), judged against the size of `Q` on the
 /// piece.
-fn classify(q: &SparseMatrix<Quat<f64>>, support: &[usize], g: &[Quat<f64>]) -> Coupling {
+fn classify<T: Scalar<Real = f64>>(q: &SparseMatrix<T>, support: &[usize], g: &[T]) -> Coupling {
     let reference = CONSTANT_TOLERANCE * column_mass(q, support);
-    let along: Quat<f64> = support.iter().map(|&p| g[p]).sum();
+    let along: T = support.iter().map(|&p| g[p]).sum();
     if l1(g) <= reference {
         Coupling::Free
-    } else if along.norm() <= reference {
+    } else if along.abs() <= reference {
         Coupling::Orthogonal
     } else {
         Coupling::Oblique
@@ -165,25 +166,23 @@ fn classify(q: &SparseMatrix<Quat<f64>>, support: &[usize], g: &[Quat<f64>]) -> 
 }
 
 /// `Σ_i |x_i|`.
-fn l1(x: &[Quat<f64>]) -> f64 {
-    x.iter().map(|q| q.norm()).sum()
+fn l1<T: Scalar<Real = f64>>(x: &[T]) -> f64 {
+    x.iter().map(|q| q.abs()).sum()
 }
 
 /// `Σ_{j ∈ S} Σ_i |X_ij|`: the scale of `X 𝟙_S` without cancellation.
-fn column_mass(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> f64 {
+fn column_mass<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, support: &[usize]) -> f64 {
     support
         .iter()
-        .map(|&j| x.col(j).1.iter().map(|q| q.norm()).sum::<f64>())
+        .map(|&j| x.col(j).1.iter().map(|q| q.abs()).sum::<f64>())
         .sum()
 }
 
 /// `X 𝟙_S`.
-fn image_of_indicator(x: &SparseMatrix<Quat<f64>>, support: &[usize]) -> Vec<Quat<f64>> {
-    let mut indicator = vec![Quat::default(); x.ncols()];
-    support
-        .iter()
-        .for_each(|&p| indicator[p] = Quat::from_real(1.0));
-    let mut image = vec![Quat::default(); x.nrows()];
+fn image_of_indicator<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, support: &[usize]) -> Vec<T> {
+    let mut indicator = vec![T::zero(); x.ncols()];
+    support.iter().for_each(|&p| indicator[p] = T::one());
+    let mut image = vec![T::zero(); x.nrows()];
     x.mul_vec(&indicator, &mut image)
         .expect("square operator of the vector's size");
     image
@@ -224,31 +223,41 @@ impl Reduction {
     }
 
     /// `W X W` on the kept vertices, `W = M^{-1/2}`: the matrix in scaled coordinates; `None`
-    /// if an entry leaves floating-point range.
-    pub fn matrix(&self, x: &SparseMatrix<Quat<f64>>) -> Option<SparseMatrix<Quat<f64>>> {
-        let mut t = TripletMatrix::with_capacity(self.kept.len(), self.kept.len(), x.nnz());
-        for (i, j, v) in x.triplets() {
-            if let (Some(r), Some(c)) = (self.index[i], self.index[j]) {
-                // Indices are in range, so the only failure is a non-finite entry.
-                t.push(r, c, v * (self.weights[r] * self.weights[c])).ok()?;
+    /// if an entry leaves floating-point range. Built column by column from `X`'s own arrays:
+    /// the kept vertices are ascending, so the row indices stay sorted and nothing is re-sorted
+    /// (a triplet assembly would sort every column again).
+    pub fn matrix<T: Scalar<Real = f64>>(&self, x: &SparseMatrix<T>) -> Option<SparseMatrix<T>> {
+        let mut col_ptr = Vec::with_capacity(self.kept.len() + 1);
+        let mut row_idx = Vec::with_capacity(x.nnz());
+        let mut values = Vec::with_capacity(x.nnz());
+        col_ptr.push(0);
+        for (c, &j) in self.kept.iter().enumerate() {
+            let (rows, entries) = x.col(j);
+            for (&i, &v) in rows.iter().zip(entries) {
+                if let Some(r) = self.index[i] {
+                    row_idx.push(r);
+                    values.push(v.scale(self.weights[r] * self.weights[c]));
+                }
             }
+            col_ptr.push(row_idx.len());
         }
-        Some(t.to_csc())
+        // The pattern is valid by construction, so the only failure is a non-finite entry.
+        SparseMatrix::try_from_csc(self.kept.len(), self.kept.len(), col_ptr, row_idx, values).ok()
     }
 
     /// `W c` on the kept vertices: an integrated quantity (a constraint's functional, a term of
     /// a low-rank update) in scaled coordinates.
-    pub fn functional(&self, c: &[Quat<f64>]) -> Vec<Quat<f64>> {
+    pub fn functional<T: Scalar<Real = f64>>(&self, c: &[T]) -> Vec<T> {
         (self.kept.iter().zip(&self.weights))
-            .map(|(&p, &w)| c[p] * w)
+            .map(|(&p, &w)| c[p].scale(w))
             .collect()
     }
 
     /// The full vector `x = W z` (zero at removed vertices) of a scaled reduced one.
-    pub fn expand(&self, z: &[Quat<f64>], n: usize) -> Vec<Quat<f64>> {
-        let mut x = vec![Quat::default(); n];
+    pub fn expand<T: Scalar<Real = f64>>(&self, z: &[T], n: usize) -> Vec<T> {
+        let mut x = vec![T::zero(); n];
         for ((&p, &w), &v) in self.kept.iter().zip(&self.weights).zip(z) {
-            x[p] = v * w;
+            x[p] = v.scale(w);
         }
         x
     }

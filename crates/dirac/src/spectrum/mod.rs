@@ -21,6 +21,13 @@
 //! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
 //! definite.
 //!
+//! **Arithmetic.** Laplace, modified Dirichlet and anisotropic Laplace are real operators:
+//! their quaternionic form `P⊗I` has the real spectrum of `P` with every eigenvector a real one
+//! times a quaternion. They are assembled and, with [`SolverBackend::Native`], solved in real
+//! arithmetic (the same reduction, Lanczos and native Cholesky over `f64`, a quarter of the
+//! data), and their eigenvectors returned as quaternions of zero imaginary part; the embedded
+//! backends solve `P⊗I` as before. Every other operator is quaternionic.
+//!
 //! The operators built on `D_N = D_{f,N}` (relative Dirac, squared, the family) can take a
 //! second surface `f2` of the same triangulation in place of the Gauss map `N`:
 //! [`relative_spectrum`] solves them with `D_{f1,f2}`.
@@ -58,13 +65,13 @@ use std::fmt;
 use std::str::FromStr;
 
 use qeig::{ProgressCallback, Statistics};
-use qscalar::Quat;
+use qscalar::{Quat, Scalar};
 use qsparse::{CholeskyError, SparseMatrix};
 use thiserror::Error;
 
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, flatness_around};
-use pencil::{Form, Matrices, PencilSpec};
+use pencil::{Form, Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, pencil_residual_vector};
 
 use crate::geometry::barycentric_masses;
@@ -499,14 +506,21 @@ impl Operator {
 }
 
 /// Which representation the eigensolver works in (`qeig` backends).
+///
+/// For a real operator (Laplace, anisotropic Laplace, modified Dirichlet) `Native` solves the
+/// real pencil in real arithmetic: the same Lanczos and native Cholesky over `f64`, a quarter
+/// of the data of `L⊗I`, with the results returned as quaternions of zero imaginary part. The
+/// embedded backends solve such an operator as before, as the quaternionic `L⊗I` embedded in
+/// their representation, so that the representations can still be compared on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SolverBackend {
-    /// Quaternion matrices and the native Cholesky.
+    /// The operator's own scalar with the native Cholesky: quaternion matrices, or real ones
+    /// for a real operator.
     #[default]
     Native,
-    /// The 4n×4n real-block expansion with faer's Cholesky.
+    /// The 4n×4n real-block expansion of the quaternionic pencil with faer's Cholesky.
     RealBlock,
-    /// The 2n×2n complex adjoint with faer's Cholesky.
+    /// The 2n×2n complex adjoint of the quaternionic pencil with faer's Cholesky.
     ComplexAdjoint,
 }
 
@@ -775,10 +789,15 @@ pub fn eigenproblem(
     options: &SpectrumOptions,
 ) -> Result<Eigenproblem, SpectrumError> {
     validate_operator(options)?;
-    let Assembled { scale, mesh, spec } = assemble(mesh, None, options)?;
+    let Assembled {
+        scale,
+        mesh,
+        pencil,
+    } = assemble(mesh, None, options)?;
+    let operator = pencil.into_quaternionic().operator;
     Ok(Eigenproblem {
-        stiffness: spec.operator.stiffness,
-        coupling: spec.operator.coupling,
+        stiffness: operator.stiffness,
+        coupling: operator.coupling,
         masses: barycentric_masses(&mesh),
         scale,
     })
@@ -791,7 +810,7 @@ struct Assembled<'a> {
     /// The mesh after normalisation.
     mesh: Cow<'a, TriMesh>,
     /// The pencil, with the well when there is one.
-    spec: PencilSpec,
+    pencil: OperatorPencil,
 }
 
 /// Normalises `mesh` (and the `reference` surface by the same factor) and assembles the
@@ -810,14 +829,18 @@ fn assemble<'a>(
             .map(|&p| geometry::scale(p, scale))
             .collect()
     });
-    let spec = PencilSpec::for_operator(
+    let pencil = OperatorPencil::for_operator(
         options.operator,
         &mesh,
         reference.as_deref(),
         potential.as_deref(),
         options.flat_tolerance,
     )?;
-    Ok(Assembled { scale, mesh, spec })
+    Ok(Assembled {
+        scale,
+        mesh,
+        pencil,
+    })
 }
 
 /// The spectrum of `options.operator` on `mesh`; see the module documentation for the pencils.
@@ -869,16 +892,39 @@ pub fn relative_spectrum_with_progress(
     compute(mesh, Some(reference), options, progress)
 }
 
-/// The spectrum of `options.operator` on `mesh`, relative to `reference` when given.
+/// The spectrum of `options.operator` on `mesh`, relative to `reference` when given: a real
+/// operator in real arithmetic with the native backend, over the quaternions otherwise
+/// ([`SolverBackend`]).
 fn compute(
     mesh: &TriMesh,
     reference: Option<&TriMesh>,
     options: &SpectrumOptions,
-    mut progress: Option<ProgressCallback>,
+    progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     validate(mesh, options)?;
-    let Assembled { scale, mesh, spec } = assemble(mesh, reference, options)?;
+    let Assembled {
+        scale,
+        mesh,
+        pencil,
+    } = assemble(mesh, reference, options)?;
     let mesh = mesh.as_ref();
+    match (pencil, options.backend) {
+        (OperatorPencil::Real(spec), SolverBackend::Native) => {
+            solve_pencil(&spec, mesh, scale, options, progress)
+        }
+        (pencil, _) => solve_pencil(&pencil.into_quaternionic(), mesh, scale, options, progress),
+    }
+}
+
+/// The spectrum of the pencil `spec` over its scalar `T` on `mesh` (as solved, positions
+/// multiplied by `scale`).
+fn solve_pencil<T: Scalar<Real = f64>>(
+    spec: &PencilSpec<T>,
+    mesh: &TriMesh,
+    scale: f64,
+    options: &SpectrumOptions,
+    mut progress: Option<ProgressCallback>,
+) -> Result<Spectrum, SpectrumError> {
     let masses = barycentric_masses(mesh);
     let kernel = match spec.form {
         Form::Literal { .. } => ExactKernel::none(),
@@ -895,10 +941,7 @@ fn compute(
         0
     };
     let wanted = options.k - listed;
-    let mut pairs = Pairs {
-        complete: true,
-        ..Pairs::default()
-    };
+    let mut pairs = Pairs::none();
     if wanted > 0 {
         let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
         check_available(&kernel, wanted, reduced.available(), masses.len())?;
@@ -912,7 +955,7 @@ fn compute(
             options,
             &mut progress,
         )
-        .map_err(|e| singular_error(e, &spec, mesh, options.flat_tolerance))?;
+        .map_err(|e| singular_error(e, spec, mesh, options.flat_tolerance))?;
     }
     pairs.values.splice(0..0, vec![0.0; listed]);
     pairs.vectors.splice(0..0, kernel.basis(&masses, listed));
@@ -982,8 +1025,8 @@ fn normalized(
 }
 
 /// Fails unless `wanted` nonzero pairs exist outside the kernel (`available` of them do).
-fn check_available(
-    kernel: &ExactKernel,
+fn check_available<T: Scalar<Real = f64>>(
+    kernel: &ExactKernel<T>,
     wanted: usize,
     available: usize,
     vertices: usize,
@@ -1004,9 +1047,9 @@ fn check_available(
 }
 
 /// A solve error in the user's terms.
-fn singular_error(
+fn singular_error<T>(
     error: SolveError,
-    spec: &PencilSpec,
+    spec: &PencilSpec<T>,
     mesh: &TriMesh,
     flat_tolerance: f64,
 ) -> SpectrumError {
@@ -1023,10 +1066,11 @@ fn singular_error(
 }
 
 /// Sorts by `|λ|`, keeps `k`, mass-orthonormalises within eigenspaces, applies the canonical
-/// phase, measures residuals and splits off the pairs that are not converged.
-fn finish(
-    pairs: Pairs,
-    operator: &Matrices,
+/// phase, measures residuals and splits off the pairs that are not converged; the eigenvectors
+/// leave as quaternions.
+fn finish<T: Scalar<Real = f64>>(
+    pairs: Pairs<T>,
+    operator: &Matrices<T>,
     masses: &[f64],
     options: &SpectrumOptions,
     scale: f64,
@@ -1039,8 +1083,7 @@ fn finish(
     });
     order.truncate(options.k);
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
-    let mut eigenvectors: Vec<Vec<Quat<f64>>> =
-        order.iter().map(|&i| pairs.vectors[i].clone()).collect();
+    let mut eigenvectors: Vec<Vec<T>> = order.iter().map(|&i| pairs.vectors[i].clone()).collect();
     orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
     let norms = (
         scaled_norm(&operator.stiffness, masses),
@@ -1055,6 +1098,7 @@ fn finish(
         .collect();
     let residuals = measured.iter().map(|r| r.relative).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
+    let eigenvectors = eigenvectors.iter().map(|x| quaternions(x)).collect();
     let spectrum = Spectrum {
         eigenvalues: retain(eigenvalues, &converged),
         eigenvectors: retain(eigenvectors, &converged),
@@ -1072,6 +1116,19 @@ fn finish(
             partial: Box::new(spectrum),
         })
     }
+}
+
+/// `x` as quaternions: the `REAL_DIM` real components of each entry as `(w, x, y, z)` in
+/// order, the others zero (a real vector has zero imaginary part).
+fn quaternions<T: Scalar<Real = f64>>(x: &[T]) -> Vec<Quat<f64>> {
+    T::as_reals(x)
+        .chunks_exact(T::REAL_DIM)
+        .map(|c| {
+            let mut q = [0.0; 4];
+            q[..c.len()].copy_from_slice(c);
+            Quat::new(q[0], q[1], q[2], q[3])
+        })
+        .collect()
 }
 
 /// The items whose flag is set.
@@ -1114,11 +1171,17 @@ impl Residual {
 
     /// The residual of the operator's own eigenproblem (matrices as assembled), with
     /// `norms = (‖P‖, ‖Q‖)` from [`scaled_norm`].
-    fn of(m: &Matrices, norms: (f64, f64), masses: &[f64], lambda: f64, x: &[Quat<f64>]) -> Self {
-        let dual = |r: &[Quat<f64>]| -> f64 {
+    fn of<T: Scalar<Real = f64>>(
+        m: &Matrices<T>,
+        norms: (f64, f64),
+        masses: &[f64],
+        lambda: f64,
+        x: &[T],
+    ) -> Self {
+        let dual = |r: &[T]| -> f64 {
             r.iter()
                 .zip(masses)
-                .map(|(q, a)| q.norm_sqr() / a)
+                .map(|(q, a)| q.abs2() / a)
                 .sum::<f64>()
                 .sqrt()
         };
@@ -1136,7 +1199,7 @@ impl Residual {
         let relative = if lambda == 0.0 {
             ratio(norms.0 * x_norm)
         } else {
-            let mut qx = vec![Quat::default(); x.len()];
+            let mut qx = vec![T::zero(); x.len()];
             m.coupling
                 .mul_vec(x, &mut qx)
                 .expect("square operator of the vector's size");
@@ -1151,10 +1214,10 @@ impl Residual {
 
 /// `max_p Σ_q |X_pq| / √(Ā_p Ā_q)`: a bound on `‖M^{-1/2} X M^{-1/2}‖₂`, the norm of `X` from
 /// the mass norm to its dual.
-fn scaled_norm(x: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
+fn scaled_norm<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, masses: &[f64]) -> f64 {
     let mut rows = vec![0.0; masses.len()];
     for (p, q, v) in x.triplets() {
-        rows[p] += v.norm() / (masses[p] * masses[q]).sqrt();
+        rows[p] += v.abs() / (masses[p] * masses[q]).sqrt();
     }
     rows.into_iter().fold(0.0, f64::max)
 }

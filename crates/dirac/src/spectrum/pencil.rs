@@ -1,5 +1,6 @@
 //! One value per row of the pencil table (module documentation of [`super`]): the operator's
-//! own eigenproblem `P x = λ Q x`, the matrices that are solved, and how.
+//! own eigenproblem `P x = λ Q x`, the matrices that are solved, and how, over the scalar the
+//! operator is assembled in ([`OperatorPencil`]).
 
 use qscalar::{Quat, Scalar};
 use qsparse::SparseMatrix;
@@ -34,23 +35,33 @@ pub(super) enum Form {
     },
 }
 
-/// The two matrices of a pencil `P x = λ Q x`.
+/// The two matrices of a pencil `P x = λ Q x` over the scalar `T`.
 #[derive(Debug, Clone)]
-pub(super) struct Matrices {
+pub(super) struct Matrices<T> {
     /// `P`.
-    pub stiffness: SparseMatrix<Quat<f64>>,
+    pub stiffness: SparseMatrix<T>,
     /// `Q`.
-    pub coupling: SparseMatrix<Quat<f64>>,
+    pub coupling: SparseMatrix<T>,
 }
 
-/// Everything that differs between operators.
+impl Matrices<f64> {
+    /// `P⊗I` and `Q⊗I` over the quaternions.
+    fn lifted(&self) -> Matrices<Quat<f64>> {
+        Matrices {
+            stiffness: quaternionic(&self.stiffness),
+            coupling: quaternionic(&self.coupling),
+        }
+    }
+}
+
+/// Everything that differs between operators, for a pencil over the scalar `T`.
 #[derive(Debug, Clone)]
-pub(super) struct PencilSpec {
+pub(super) struct PencilSpec<T> {
     /// The operator's own eigenproblem, as assembled: residuals are measured against it.
-    pub operator: Matrices,
+    pub operator: Matrices<T>,
     /// The same with the rows of flat faces of `D` set to zero, when any face is flat: the
     /// matrices that are solved, whose kernel is then exact.
-    pub exact: Option<Matrices>,
+    pub exact: Option<Matrices<T>>,
     /// Per face: its row of the first-order operator is set to zero, because the face is flat
     /// and around a flat vertex (all `false` without a first-order operator).
     pub flat: Vec<bool>,
@@ -60,7 +71,25 @@ pub(super) struct PencilSpec {
     pub form: Form,
 }
 
-impl PencilSpec {
+/// An operator's pencil over the scalar it is assembled in.
+///
+/// Realness is decided by the operator, at assembly, rather than by inspecting the matrices: a
+/// real operator (Laplace, anisotropic Laplace, modified Dirichlet, with or without a well) is
+/// assembled as `SparseMatrix<f64>` and never lifted to `L⊗I`, so the test is exact and free,
+/// and no quaternionic copy of its matrices is built (four times the memory and the assembly
+/// time). Scanning assembled quaternionic matrices for zero imaginary parts would instead need
+/// that copy first, and would decide by a floating-point test what is known by construction.
+/// The Dirac operators and the family for `τ > 0` (at `τ = 0` it is Laplace) are quaternionic
+/// even where a mesh makes some of their entries real.
+#[derive(Debug, Clone)]
+pub(super) enum OperatorPencil {
+    /// A real operator: `P` and `Q` real symmetric; its quaternionic form is `P⊗I`, `Q⊗I`.
+    Real(PencilSpec<f64>),
+    /// A quaternionic operator.
+    Quaternionic(PencilSpec<Quat<f64>>),
+}
+
+impl OperatorPencil {
     /// The pencil of `operator` on `mesh` with an optional well potential; faces whose corner
     /// normals agree within `flat_tolerance` are flat. With a `reference` surface `f2` (one
     /// point per vertex), the operators built on `D_N = D_{f,N}` are built on `D_{f,f2}`
@@ -73,68 +102,82 @@ impl PencilSpec {
         flat_tolerance: f64,
     ) -> Result<Self, SpectrumError> {
         let masses = barycentric_masses(mesh);
-        let mass = quaternionic(&SparseMatrix::from_diagonal(&masses));
+        let real_mass = || SparseMatrix::from_diagonal(&masses);
         let laplacian = |base: SparseMatrix<f64>| -> Result<_, SpectrumError> {
-            Ok(quaternionic(&match potential {
+            Ok(match potential {
                 Some(u) => laplacian_with_well(mesh, &base, u)?,
                 None => base,
-            }))
+            })
         };
+        let real = |stiffness: SparseMatrix<f64>| {
+            Self::Real(PencilSpec::shifted(
+                stiffness,
+                real_mass(),
+                &masses,
+                potential,
+                mesh,
+            ))
+        };
+        let mass = || quaternionic(&real_mass());
         let relative = reference.map_or(SecondImmersion::GaussMap, SecondImmersion::Surface);
         let dirac =
             |second: SecondImmersion| FirstOrder::assemble(mesh, second, potential, flat_tolerance);
         let spec = match operator {
-            Operator::Laplace | Operator::Family { tau: 0.0 } => Self::shifted(
-                laplacian(cotan_laplacian(mesh))?,
-                mass,
-                &masses,
-                potential,
-                mesh,
-            ),
-            Operator::AnisotropicLaplace { anisotropy } => Self::shifted(
-                laplacian(anisotropic_laplacian(mesh, anisotropy)?)?,
-                mass,
-                &masses,
-                potential,
-                mesh,
-            ),
-            Operator::ModifiedDirichlet => Self::shifted(
-                laplacian(modified_dirichlet(mesh)?)?,
-                mass,
-                &masses,
-                potential,
-                mesh,
-            ),
-            Operator::Squared => dirac(relative)?.squared(mass, &masses, potential, mesh),
+            Operator::Laplace | Operator::Family { tau: 0.0 } => {
+                return Ok(real(laplacian(cotan_laplacian(mesh))?));
+            }
+            Operator::AnisotropicLaplace { anisotropy } => {
+                return Ok(real(laplacian(anisotropic_laplacian(mesh, anisotropy)?)?));
+            }
+            Operator::ModifiedDirichlet => {
+                return Ok(real(laplacian(modified_dirichlet(mesh, &masses)?)?));
+            }
+            Operator::Squared => dirac(relative)?.squared(mass(), &masses, potential, mesh),
             Operator::RelativeDirac | Operator::Family { tau: 1.0 } => dirac(relative)?.pinned(),
             Operator::ExtrinsicDirac => dirac(SecondImmersion::Positions)?.pinned(),
             Operator::Family { tau } => {
                 // `L` does not vanish on flat faces: no face is flat for the blend.
                 let first = dirac(relative)?.operator;
-                let l = laplacian(cotan_laplacian(mesh))?;
+                let l = quaternionic(&laplacian(cotan_laplacian(mesh))?);
                 let matrices = Matrices {
                     stiffness: blend(tau, &first.stiffness, &l)?,
-                    coupling: blend(tau, &first.coupling, &mass)?,
+                    coupling: blend(tau, &first.coupling, &mass())?,
                 };
-                Self::plain(matrices, Form::Pinned, mesh)
+                PencilSpec::plain(matrices, Form::Pinned, mesh)
             }
             Operator::FamilyLiteral { tau } => {
                 let first = dirac(relative)?.operator;
-                let l = laplacian(cotan_laplacian(mesh))?;
+                let l = quaternionic(&laplacian(cotan_laplacian(mesh))?);
                 let stiffness = blend(tau, &first.coupling, &l)?;
                 let sigma = gershgorin_shift(&stiffness, &masses);
                 let matrices = Matrices {
                     stiffness,
-                    coupling: mass,
+                    coupling: mass(),
                 };
-                Self::plain(matrices, Form::Literal { sigma }, mesh)
+                PencilSpec::plain(matrices, Form::Literal { sigma }, mesh)
             }
         };
-        Ok(spec)
+        Ok(Self::Quaternionic(spec))
     }
 
+    /// The pencil over the quaternions: a real one as `P⊗I`, `Q⊗I`.
+    pub fn into_quaternionic(self) -> PencilSpec<Quat<f64>> {
+        match self {
+            Self::Real(spec) => PencilSpec {
+                operator: spec.operator.lifted(),
+                exact: spec.exact.as_ref().map(Matrices::lifted),
+                flat: spec.flat,
+                normals: spec.normals,
+                form: spec.form,
+            },
+            Self::Quaternionic(spec) => spec,
+        }
+    }
+}
+
+impl<T: Scalar<Real = f64>> PencilSpec<T> {
     /// A pencil with no flat faces.
-    fn plain(operator: Matrices, form: Form, mesh: &TriMesh) -> Self {
+    fn plain(operator: Matrices<T>, form: Form, mesh: &TriMesh) -> Self {
         Self {
             operator,
             exact: None,
@@ -146,8 +189,8 @@ impl PencilSpec {
 
     /// `P x = λ M x` with `P` semidefinite, in shifted form.
     fn shifted(
-        stiffness: SparseMatrix<Quat<f64>>,
-        mass: SparseMatrix<Quat<f64>>,
+        stiffness: SparseMatrix<T>,
+        mass: SparseMatrix<T>,
         masses: &[f64],
         potential: Option<&[f64]>,
         mesh: &TriMesh,
@@ -161,7 +204,7 @@ impl PencilSpec {
     }
 
     /// The matrices that are solved.
-    pub fn solved(&self) -> &Matrices {
+    pub fn solved(&self) -> &Matrices<T> {
         self.exact.as_ref().unwrap_or(&self.operator)
     }
 }
@@ -180,8 +223,8 @@ enum SecondImmersion<'a> {
 /// A Dirac pencil `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, as assembled and with the rows of flat
 /// faces of `D` set to zero.
 struct FirstOrder {
-    operator: Matrices,
-    exact: Option<Matrices>,
+    operator: Matrices<Quat<f64>>,
+    exact: Option<Matrices<Quat<f64>>>,
     flat: Vec<bool>,
     normals: Option<Vec<[f64; 3]>>,
 }
@@ -215,7 +258,7 @@ impl FirstOrder {
             }
             None => vec![false; mesh.face_count()],
         };
-        let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices, SpectrumError> {
+        let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices<_>, SpectrumError> {
             let p = DiracPencil::new(mesh, d)?;
             Ok(Matrices {
                 stiffness: p.stiffness,
@@ -243,7 +286,7 @@ impl FirstOrder {
         masses: &[f64],
         potential: Option<&[f64]>,
         mesh: &TriMesh,
-    ) -> PencilSpec {
+    ) -> PencilSpec<Quat<f64>> {
         let mut spec = PencilSpec::shifted(self.operator.stiffness, mass, masses, potential, mesh);
         spec.exact = self.exact.map(|exact| Matrices {
             stiffness: exact.stiffness,
@@ -254,7 +297,7 @@ impl FirstOrder {
     }
 
     /// `A x = λ G x` in pinned form.
-    fn pinned(self) -> PencilSpec {
+    fn pinned(self) -> PencilSpec<Quat<f64>> {
         PencilSpec {
             operator: self.operator,
             exact: self.exact,
@@ -275,9 +318,10 @@ fn blend(
         .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
-/// `L + M diag(U)`: the modified Dirichlet Hessian with the Willmore potential `U`.
-fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError> {
-    let weighted: Vec<f64> = barycentric_masses(mesh)
+/// `L + M diag(U)`: the modified Dirichlet Hessian with the Willmore potential `U`, `masses`
+/// the diagonal of `M`.
+fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64>, SpectrumError> {
+    let weighted: Vec<f64> = masses
         .iter()
         .zip(willmore_potential(mesh))
         .map(|(m, u)| m * u)
@@ -297,8 +341,8 @@ fn modified_dirichlet(mesh: &TriMesh) -> Result<SparseMatrix<f64>, SpectrumError
 /// the few sliver triangles that set the largest ratio). With the kernel removed exactly, `ε`
 /// only lifts the constant directions, `𝟙* (P + εM) 𝟙 = ε 𝟙* M 𝟙`, a factor `10⁶` above the
 /// rounding `~10⁻¹⁶ Σ|P_ij|` of `𝟙* P 𝟙`, and the map `λ = 1/μ − ε` is exact.
-fn regularization(
-    stiffness: &SparseMatrix<Quat<f64>>,
+fn regularization<T: Scalar<Real = f64>>(
+    stiffness: &SparseMatrix<T>,
     masses: &[f64],
     potential: Option<&[f64]>,
 ) -> f64 {

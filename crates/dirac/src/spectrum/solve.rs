@@ -4,20 +4,20 @@
 use qeig::{
     ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, RealBlock, Statistics, Which,
 };
-use qscalar::{Quat, Scalar};
+use qscalar::Scalar;
 use qsparse::{CholeskyError, SparseMatrix, vector};
 
 use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
-/// Computed eigenpairs of the operator, not yet sorted or normalised.
-#[derive(Debug, Clone, Default)]
-pub(super) struct Pairs {
+/// Computed eigenpairs of the operator over the scalar `T`, not yet sorted or normalised.
+#[derive(Debug, Clone)]
+pub(super) struct Pairs<T> {
     /// `λ`.
     pub values: Vec<f64>,
     /// Full-length eigenvectors.
-    pub vectors: Vec<Vec<Quat<f64>>>,
+    pub vectors: Vec<Vec<T>>,
     /// Statistics summed over every solve.
     pub statistics: Statistics,
     /// Whether the eigensolver converged all wanted pairs.
@@ -42,17 +42,29 @@ impl From<SpectrumError> for SolveError {
     }
 }
 
-/// The problem one form hands to `qeig`: `K y = μ S y` on the reduced space with
-/// constraints `cᴴ y = 0`.
-pub(super) struct Reduced {
-    reduction: Reduction,
-    k: SparseMatrix<Quat<f64>>,
-    s: SparseMatrix<Quat<f64>>,
-    constraints: Vec<Vec<Quat<f64>>>,
-    low_rank: Vec<(Vec<Quat<f64>>, f64)>,
+impl<T> Pairs<T> {
+    /// No pair: what is known when nothing outside the kernel is wanted.
+    pub fn none() -> Self {
+        Self {
+            values: Vec::new(),
+            vectors: Vec::new(),
+            statistics: Statistics::default(),
+            complete: true,
+        }
+    }
 }
 
-impl Reduced {
+/// The problem one form hands to `qeig`: `K y = μ S y` on the reduced space with
+/// constraints `cᴴ y = 0`, over the scalar `T` of the operator's pencil.
+pub(super) struct Reduced<T> {
+    reduction: Reduction,
+    k: SparseMatrix<T>,
+    s: SparseMatrix<T>,
+    constraints: Vec<Vec<T>>,
+    low_rank: Vec<(Vec<T>, f64)>,
+}
+
+impl<T> Reduced<T> {
     /// Dimension left for eigenpairs.
     pub fn available(&self) -> usize {
         self.reduction
@@ -64,16 +76,16 @@ impl Reduced {
 
 /// The `count` nonzero eigenpairs of smallest `|λ|`, from the problem [`reduce`] built with
 /// the same arguments.
-pub(super) fn solve(
-    reduced: &Reduced,
+pub(super) fn solve<T: Scalar<Real = f64>>(
+    reduced: &Reduced<T>,
     form: Form,
-    matrices: &Matrices,
-    kernel: &ExactKernel,
+    matrices: &Matrices<T>,
+    kernel: &ExactKernel<T>,
     masses: &[f64],
     count: usize,
     options: &SpectrumOptions,
     progress: ProgressCallback,
-) -> Result<Pairs, SolveError> {
+) -> Result<Pairs<T>, SolveError> {
     let n = masses.len();
     let mut pairs = match form {
         Form::Shifted { epsilon } => {
@@ -115,12 +127,12 @@ pub(super) fn solve(
 ///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
 ///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
 /// * literal: `M y = μ (P + σM) y` on all vertices.
-pub(super) fn reduce(
+pub(super) fn reduce<T: Scalar<Real = f64>>(
     form: Form,
-    m: &Matrices,
-    kernel: &ExactKernel,
+    m: &Matrices<T>,
+    kernel: &ExactKernel<T>,
     masses: &[f64],
-) -> Result<Reduced, SpectrumError> {
+) -> Result<Reduced<T>, SpectrumError> {
     let flat = kernel.flat_vertices.iter().copied();
     let pins = kernel.constants.iter().map(|c| c.vertices[0]);
     let reduction = match form {
@@ -147,7 +159,7 @@ pub(super) fn reduce(
     let (p, q) = (scaled(&m.stiffness)?, scaled(&m.coupling)?);
     let s = match form {
         Form::Shifted { epsilon: shift } | Form::Literal { sigma: shift } => {
-            SparseMatrix::linear_combination(Quat::from_real(1.0), &p, Quat::from_real(shift), &q)
+            SparseMatrix::linear_combination(T::one(), &p, T::from_real(shift), &q)
                 .map_err(|e| SpectrumError::Operator(e.into()))?
         }
         Form::Pinned => p,
@@ -162,25 +174,25 @@ pub(super) fn reduce(
 }
 
 /// `Re(𝟙_S* g)`.
-fn indicator_inner(support: &[usize], g: &[Quat<f64>]) -> f64 {
+fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &[T]) -> f64 {
     support.iter().map(|&p| g[p].re()).sum()
 }
 
 /// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode
 /// from the pinned one.
-fn project_oblique(mode: &ConstantMode, x: &mut [Quat<f64>]) {
-    let c = vector::inner(&mode.image, x) / indicator_inner(&mode.vertices, &mode.image);
+fn project_oblique<T: Scalar<Real = f64>>(mode: &ConstantMode<T>, x: &mut [T]) {
+    let c = vector::inner(&mode.image, x).scale(1.0 / indicator_inner(&mode.vertices, &mode.image));
     mode.vertices.iter().for_each(|&p| x[p] -= c);
 }
 
 /// The eigenvalues `μ` of the reduced pencil mapped to `λ` by `to_lambda(μ, y)`, with full
 /// vectors.
-fn map_pairs(
-    eigen: (Eigen<Quat<f64>>, bool),
-    reduced: &Reduced,
+fn map_pairs<T: Scalar<Real = f64>>(
+    eigen: (Eigen<T>, bool),
+    reduced: &Reduced<T>,
     n: usize,
     to_lambda: impl Fn(f64) -> f64,
-) -> Pairs {
+) -> Pairs<T> {
     let (eigen, complete) = eigen;
     Pairs {
         values: (eigen.values.iter()).map(|&mu| to_lambda(mu)).collect(),
@@ -194,13 +206,13 @@ fn map_pairs(
 
 /// The literal family: eigenvalues from the bottom until the `count` of smallest `|λ|` are
 /// certain (every `λ` below the highest one computed is known).
-fn literal(
-    reduced: &Reduced,
+fn literal<T: Scalar<Real = f64>>(
+    reduced: &Reduced<T>,
     sigma: f64,
     count: usize,
     options: &SpectrumOptions,
     progress: ProgressCallback,
-) -> Result<Pairs, SolveError> {
+) -> Result<Pairs<T>, SolveError> {
     let n = reduced.reduction.kept.len();
     let mut statistics = Statistics::default();
     let mut computed = (2 * count).min(n);
@@ -231,15 +243,18 @@ fn literal(
 }
 
 /// Solves the reduced pencil for `count` pairs with the chosen backend; the flag says whether
-/// all of them converged.
-fn run(
-    reduced: &Reduced,
+/// all of them converged. [`super::compute`] hands a real operator to the embedded backends
+/// over the quaternions (`P⊗I`), as before there was a real path, so here `T = f64` only
+/// meets [`Native`] in practice (a real-block or complex-adjoint backend over `f64` would be
+/// faer's Cholesky on the same `n × n` matrix).
+fn run<T: Scalar<Real = f64>>(
+    reduced: &Reduced<T>,
     count: usize,
     which: Which,
     options: &SpectrumOptions,
     progress: ProgressCallback,
-) -> Result<(Eigen<Quat<f64>>, bool), SolveError> {
-    let eigen_error = |e: EigError<Quat<f64>>| SpectrumError::Eigen(e.to_string());
+) -> Result<(Eigen<T>, bool), SolveError> {
+    let eigen_error = |e: EigError<T>| SpectrumError::Eigen(e.to_string());
     let pencil = Pencil::new(&reduced.k, &reduced.s)
         .and_then(|p| p.with_constraints(reduced.constraints.clone()))
         .and_then(|p| p.with_low_rank_update(reduced.low_rank.clone()))
@@ -273,40 +288,46 @@ fn run(
 /// `x ← x + 𝟙_S c` with `c = ⟨g, P x − λ Q x⟩ / (λ ⟨g, g⟩)`, `g = Q 𝟙_S`: the constant
 /// component on a coupled piece that makes `x` satisfy `P x = λ Q x` when it was solved with
 /// that component pinned to zero (least squares; exact when the rest is exact).
-fn restore_constant(m: &Matrices, mode: &ConstantMode, lambda: f64, x: &mut [Quat<f64>]) {
+fn restore_constant<T: Scalar<Real = f64>>(
+    m: &Matrices<T>,
+    mode: &ConstantMode<T>,
+    lambda: f64,
+    x: &mut [T],
+) {
     let g = &mode.image;
     let residual = pencil_residual_vector(m, lambda, x);
-    let c = vector::inner(g, &residual) / (lambda * vector::inner(g, g).re());
+    let c = vector::inner(g, &residual).scale(1.0 / (lambda * vector::inner(g, g).re()));
     mode.vertices.iter().for_each(|&p| x[p] += c);
 }
 
 /// `P x − λ Q x`.
-pub(super) fn pencil_residual_vector(m: &Matrices, lambda: f64, x: &[Quat<f64>]) -> Vec<Quat<f64>> {
-    let (mut px, mut qx) = (
-        vec![Quat::default(); x.len()],
-        vec![Quat::default(); x.len()],
-    );
+pub(super) fn pencil_residual_vector<T: Scalar<Real = f64>>(
+    m: &Matrices<T>,
+    lambda: f64,
+    x: &[T],
+) -> Vec<T> {
+    let (mut px, mut qx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
     m.stiffness
         .mul_vec(x, &mut px)
         .expect("square operator of the vector's size");
     m.coupling
         .mul_vec(x, &mut qx)
         .expect("square operator of the vector's size");
-    vector::axpy(&mut px, &qx, Quat::from_real(-lambda));
+    vector::axpy(&mut px, &qx, T::from_real(-lambda));
     px
 }
 
 /// `x ← x − 𝟙_S ⟨𝟙_S, x⟩_M / ⟨𝟙_S, 𝟙_S⟩_M`: the mass-orthogonal representative modulo the
 /// constant of a piece.
-fn remove_mass_mean(masses: &[f64], support: &[usize], x: &mut [Quat<f64>]) {
+fn remove_mass_mean<T: Scalar<Real = f64>>(masses: &[f64], support: &[usize], x: &mut [T]) {
     let total: f64 = support.iter().map(|&p| masses[p]).sum();
-    let mean = support.iter().map(|&p| x[p] * masses[p]).sum::<Quat<f64>>() / total;
+    let mean = (support.iter().map(|&p| x[p].scale(masses[p])).sum::<T>()).scale(1.0 / total);
     support.iter().for_each(|&p| x[p] -= mean);
 }
 
 /// `Re(x* A x)`.
-fn rayleigh_quotient(a: &SparseMatrix<Quat<f64>>, x: &[Quat<f64>]) -> f64 {
-    let mut ax = vec![Quat::default(); x.len()];
+fn rayleigh_quotient<T: Scalar<Real = f64>>(a: &SparseMatrix<T>, x: &[T]) -> f64 {
+    let mut ax = vec![T::zero(); x.len()];
     a.mul_vec(x, &mut ax)
         .expect("square operator of the vector's size");
     vector::inner(x, &ax).re()
