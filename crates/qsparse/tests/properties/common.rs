@@ -5,7 +5,7 @@ use faer::sparse::{SparseColMat, Triplet};
 use proptest::prelude::*;
 use qscalar::Scalar;
 use qsparse::vector::{axpy, norm};
-use qsparse::{SparseMatrix, TripletMatrix};
+use qsparse::{SparseCholesky, SparseMatrix, TripletMatrix};
 
 /// `‖found − expected‖ / max(1, ‖expected‖)`.
 pub fn relative_distance<T: Scalar<Real = f64>>(found: &[T], expected: &[T]) -> f64 {
@@ -30,6 +30,27 @@ pub fn assert_close<T: Scalar<Real = f64>>(
         distance <= tolerance,
         "relative distance {distance:e} > {tolerance:e}\nfound    {found:?}\nexpected {expected:?}"
     );
+    Ok(())
+}
+
+/// Fails the case unless `C⁻¹ A C⁻ᴴ = I` column by column to `tolerance`, for the factor
+/// `A = C Cᴴ`: the factor reproduces `A` in every direction, not only on one right-hand side.
+pub fn assert_whitens<T: Scalar<Real = f64>>(
+    factor: &SparseCholesky<T>,
+    a: &SparseMatrix<T>,
+    tolerance: f64,
+) -> Result<(), TestCaseError> {
+    let n = a.nrows();
+    for j in 0..n {
+        let mut unit = vec![T::zero(); n];
+        unit[j] = T::one();
+        let mut column = unit.clone();
+        factor.solve_upper_in_place(&mut column).unwrap();
+        let mut a_column = vec![T::zero(); n];
+        a.mul_vec(&column, &mut a_column).unwrap();
+        factor.solve_lower_in_place(&mut a_column).unwrap();
+        assert_close(&a_column, &unit, tolerance)?;
+    }
     Ok(())
 }
 

@@ -14,7 +14,7 @@ use qsparse::embedding::{complex_adjoint_vector, from_complex_adjoint_vector};
 use qsparse::ordering::NESTED_DISSECTION_MIN_UNKNOWNS;
 use qsparse::{FillOrdering, SparseCholesky, SparseMatrix, SymbolicCholesky, TripletMatrix};
 
-use crate::common::{Lcg, assert_close, unit_from_components};
+use crate::common::{Lcg, assert_close, assert_whitens, unit_from_components};
 
 /// Bound on the relative distance of two solutions (`κ(A) ≤ 3` here, see [`hpd_on_graph`]).
 const AGREEMENT: f64 = 1e-11;
@@ -178,16 +178,7 @@ fn orderings_are_exact<T: Scalar<Real = f64>>(
         let factor = SparseCholesky::factorize_with_symbolic(symbolic.into(), &a).unwrap();
         assert_close(&factor.solve(&b).unwrap(), &expected, AGREEMENT)?;
         if n <= columns_up_to {
-            for j in 0..n {
-                let mut unit = vec![T::zero(); n];
-                unit[j] = T::one();
-                let mut column = unit.clone();
-                factor.solve_upper_in_place(&mut column).unwrap();
-                let mut a_column = vec![T::zero(); n];
-                a.mul_vec(&column, &mut a_column).unwrap();
-                factor.solve_lower_in_place(&mut a_column).unwrap();
-                assert_close(&a_column, &unit, AGREEMENT)?;
-            }
+            assert_whitens(&factor, &a, AGREEMENT)?;
         }
     }
     Ok(())
