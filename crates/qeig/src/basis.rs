@@ -82,17 +82,14 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         limit: Option<u64>,
     ) -> Result<(), BasisTooLarge> {
         let entries = columns.saturating_mul(self.n);
+        let available = limit.or_else(memory::available_bytes);
         let too_large = || BasisTooLarge {
             vectors: columns,
             dimension: self.n,
             bytes_per_entry: std::mem::size_of::<V>(),
-            bytes_available: limit.or_else(memory::available_bytes),
+            bytes_available: available,
         };
-        let bytes = (entries as u64).saturating_mul(std::mem::size_of::<V>() as u64);
-        if limit
-            .or_else(memory::available_bytes)
-            .is_some_and(|a| bytes > a)
-        {
+        if available.is_some_and(|a| too_large().bytes_needed() > a) {
             return Err(too_large());
         }
         let additional = entries.saturating_sub(self.data.len());

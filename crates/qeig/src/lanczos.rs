@@ -97,7 +97,9 @@ pub struct LanczosOptions {
     /// the returned residuals are the true ones.
     pub tolerance: f64,
     /// Largest active basis dimension (locked and deflation vectors come on top).
-    /// `0` chooses `max(2k, k + 32)` (for the iteration-space `k`), capped by the dimension.
+    /// `0` chooses `max(2k, k + 32)` (for the iteration-space `k`), capped by the dimension,
+    /// and after each restart the same rule for the pairs still needed (the basis shrinks as
+    /// pairs lock); a nonzero value is kept throughout.
     pub max_dim: usize,
     /// Largest number of thick restarts before giving up.
     pub max_restarts: usize,
@@ -156,6 +158,12 @@ pub(crate) struct Outcome<V> {
     pub vectors: Vec<Vec<V>>,
     pub converged: bool,
     pub statistics: Statistics,
+}
+
+/// The active dimension for `pairs` wanted pairs when the options leave it automatic: twice
+/// as many, and at least 32 more.
+fn active_for(pairs: usize) -> usize {
+    (2 * pairs).max(pairs + 32)
 }
 
 /// Steps between early convergence checks.
@@ -282,7 +290,7 @@ where
         let n = op.dim();
         let deflation = basis.cols();
         let max_active = if options.max_dim == 0 {
-            (2 * k).max(k + 32)
+            active_for(k)
         } else {
             options.max_dim
         }
@@ -320,11 +328,11 @@ where
     /// more than the first cycle's. Shrinking it as pairs lock keeps the whole basis — the
     /// locked vectors and the active ones, which every step orthogonalises against — near
     /// `k + needed` instead of `k + max_active`: at k = 200 on the armadillo this reads 21 %
-    /// fewer basis columns for 4 % fewer operator applications (docs/PERFORMANCE.md).
+    /// fewer basis columns for 3 % fewer operator applications (docs/PERFORMANCE.md).
     fn active_dimension(&self, base: usize) -> usize {
         let needed = self.k.saturating_sub(self.locked.len()).max(1);
         let wanted = if self.options.max_dim == 0 {
-            (2 * needed).max(needed + 32)
+            active_for(needed)
         } else {
             self.max_active
         };

@@ -241,7 +241,6 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             .map(|(&mu, x)| self.relative_residual(mu, x))
             .collect();
         let mut statistics = outcome.statistics;
-        statistics.factor_bytes = op.factor_bytes();
         (statistics.solves, statistics.solve_time) = op.solve_statistics();
         statistics.factorization_time = factorization_time;
         statistics.total_time = start.elapsed();
