@@ -596,20 +596,12 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         self.solve_upper_in_place(rhs)
     }
 
-    /// Solves `A X = B` for `ncols` right-hand sides stored column-major in `rhs`.
+    /// Solves `A X = B` for `ncols` right-hand sides stored column-major in `rhs`, reading
+    /// the factor once per half-solve for all of them.
     pub fn solve_many_in_place(&self, rhs: &mut [T], ncols: usize) -> Result<(), CholeskyError> {
-        let n = self.symbolic.n;
-        if rhs.len() != n * ncols {
-            return Err(CholeskyError::RhsDimension {
-                expected: n * ncols,
-                found: rhs.len(),
-            });
-        }
-        if n == 0 {
-            return Ok(());
-        }
-        rhs.chunks_exact_mut(n)
-            .try_for_each(|column| self.solve_in_place(column))
+        let mut work = Vec::new();
+        self.solve_lower_many_in_place_with(rhs, ncols, &mut work)?;
+        self.solve_upper_many_in_place_with(rhs, ncols, &mut work)
     }
 
     /// Returns `x` with `A x = b`.
@@ -632,8 +624,37 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         x: &mut [T],
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
-        self.check_rhs(x.len())?;
-        self.forward(x, work, self.two_threads());
+        self.solve_lower_many_in_place_with(x, 1, work)
+    }
+
+    /// `X ← C⁻¹ X` for the `ncols` columns of `x` (column-major, `n × ncols`), with a
+    /// caller-owned workspace. Each supernode's block is read from memory once for all
+    /// columns (the other columns find it in cache), so that the memory traffic of the factor,
+    /// which bounds a half-solve, is shared; every column gets exactly the result of
+    /// [`Self::solve_lower_in_place_with`] (the same operations in the same order).
+    pub fn solve_lower_many_in_place_with(
+        &self,
+        x: &mut [T],
+        ncols: usize,
+        work: &mut Vec<T>,
+    ) -> Result<(), CholeskyError> {
+        self.check_many(x.len(), ncols)?;
+        self.forward(x, ncols, work, self.two_threads());
+        Ok(())
+    }
+
+    /// Checks that `len` entries are `ncols` columns of length `n`.
+    fn check_many(&self, len: usize, ncols: usize) -> Result<(), CholeskyError> {
+        if ncols == 1 {
+            return self.check_rhs(len);
+        }
+        let expected = self.symbolic.n * ncols;
+        if len != expected {
+            return Err(CholeskyError::RhsDimension {
+                expected,
+                found: len,
+            });
+        }
         Ok(())
     }
 
@@ -650,50 +671,70 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         self.symbolic.split.filter(|_| use_two)
     }
 
-    /// `x ← L⁻¹ P x`, on two threads with `split` (see [`partition`]): each thread substitutes
-    /// through its subtrees and collects its updates of the top's unknowns in its own buffer;
-    /// the buffers are added (first, then second: the result does not depend on timing) before
-    /// the top is substituted.
-    fn forward(&self, x: &mut [T], work: &mut Vec<T>, split: Option<TwoWaySplit>) {
+    /// `X ← L⁻¹ P X` for the `ncols` columns of `x`, on two threads with `split` (see
+    /// [`partition`]): each thread substitutes through its subtrees and collects its updates
+    /// of the top's unknowns in its own buffers; the buffers are added (first, then second:
+    /// the result does not depend on timing) before the top is substituted.
+    fn forward(&self, x: &mut [T], ncols: usize, work: &mut Vec<T>, split: Option<TwoWaySplit>) {
         let sym = &*self.symbolic;
         let n = sym.n;
+        if n == 0 || ncols == 0 {
+            return;
+        }
         let (first_end, second_end, c1, c2) = sym.bounds(split);
         let all = sym.supernodes();
-        // work = [P x | first thread's top updates | second thread's top updates]; one
-        // thread needs no buffers (without a split everything is the top, c2 = 0).
+        // work = [P X | first thread's top updates | second thread's top updates], each
+        // `ncols` columns; one thread needs no buffers (without a split everything is the
+        // top, c2 = 0).
         let buffer_len = if split.is_some() { n - c2 } else { 0 };
         work.clear();
-        work.extend(sym.perm.iter().map(|&old| x[old]));
-        work.resize(n + 2 * buffer_len, T::zero());
-        let (y, buffers) = work.split_at_mut(n);
-        let (first_top, second_top) = buffers.split_at_mut(buffer_len);
-        let (low, top) = y.split_at_mut(c2);
+        for column in x.chunks_exact(n) {
+            work.extend(sym.perm.iter().map(|&old| column[old]));
+        }
+        work.resize((n + 2 * buffer_len) * ncols, T::zero());
+        let (y, buffers) = work.split_at_mut(n * ncols);
+        let (first_buffer, second_buffer) = buffers.split_at_mut(buffer_len * ncols);
+        let (mut lows, mut tops): (Vec<&mut [T]>, Vec<&mut [T]>) =
+            y.chunks_exact_mut(n).map(|c| c.split_at_mut(c2)).unzip();
         if split.is_some() {
-            let (first, second) = low.split_at_mut(c1);
+            let (mut firsts, mut seconds): (Vec<&mut [T]>, Vec<&mut [T]>) =
+                lows.iter_mut().map(|c| c.split_at_mut(c1)).unzip();
+            let mut first_tops = columns_mut(first_buffer, buffer_len, ncols);
+            let mut second_tops = columns_mut(second_buffer, buffer_len, ncols);
             std::thread::scope(|scope| {
                 let helper = scope.spawn(|| {
-                    self.forward_range(first_end..second_end, second, c1, second_top, c2);
+                    self.forward_range(
+                        first_end..second_end,
+                        &mut seconds,
+                        c1,
+                        &mut second_tops,
+                        c2,
+                    );
                 });
-                self.forward_range(0..first_end, first, 0, first_top, c2);
+                self.forward_range(0..first_end, &mut firsts, 0, &mut first_tops, c2);
                 helper.join().expect("forward substitution thread");
             });
-            for ((t, a), b) in top.iter_mut().zip(&*first_top).zip(&*second_top) {
-                *t += *a + *b;
+            for ((top, first), second) in tops.iter_mut().zip(&first_tops).zip(&second_tops) {
+                for ((t, a), b) in top.iter_mut().zip(first.iter()).zip(second.iter()) {
+                    *t += *a + *b;
+                }
             }
         }
-        self.forward_range(second_end..all, top, c2, &mut [], n);
+        self.forward_range(second_end..all, &mut tops, c2, &mut [], n);
+        drop((lows, tops));
         x.copy_from_slice(y);
     }
 
-    /// Forward substitution through `supernodes` (in order) on `y`, which holds the unknowns
-    /// `offset..offset + y.len()` (the columns of these supernodes); updates of unknowns
-    /// `top_start..` go to `top[row − top_start]` instead.
+    /// Forward substitution through `supernodes` (in order) on every column of `ys`, which
+    /// hold the unknowns `offset..offset + len` (the columns of these supernodes); updates of
+    /// unknowns `top_start..` go to `tops[c][row − top_start]` instead (`tops` may be empty
+    /// when no row reaches `top_start`).
     fn forward_range(
         &self,
         supernodes: std::ops::Range<usize>,
-        y: &mut [T],
+        ys: &mut [&mut [T]],
         offset: usize,
-        top: &mut [T],
+        tops: &mut [&mut [T]],
         top_start: usize,
     ) {
         let sym = &*self.symbolic;
@@ -708,42 +749,24 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                 // The next block: hardware prefetchers do not see past the current one.
                 prefetch_head(&self.values[sym.value_ptr[s + 1]..sym.value_ptr[s + 2]]);
             }
-            // g = [y_s; 0] becomes [L₁₁⁻¹ y_s; −L₂₁ L₁₁⁻¹ y_s], two columns at a time.
-            g.clear();
-            g.extend_from_slice(&y[begin..begin + w]);
-            g.resize(m, T::zero());
-            let mut j = 0;
-            while j < w {
-                let column = &block[j * m..(j + 1) * m];
-                g[j] = g[j].scale(1.0 / column[j].re());
-                if j + 1 < w {
-                    let next = &block[(j + 1) * m..(j + 2) * m];
-                    let gj = g[j];
-                    g[j + 1] = (g[j + 1] - column[j + 1] * gj).scale(1.0 / next[j + 1].re());
-                    let (x0, x1) = (g[j], g[j + 1]);
-                    axpy_two(
-                        &mut g[j + 2..],
-                        &column[j + 2..],
-                        &next[j + 2..],
-                        T::zero() - x0,
-                        T::zero() - x1,
-                    );
-                    j += 2;
-                } else {
-                    let gj = g[j];
-                    axpy(&mut g[j + 1..], &column[j + 1..], T::zero() - gj);
-                    j += 1;
-                }
-            }
-            y[begin..begin + w].copy_from_slice(&g[..w]);
             // Rows are sorted: those of this range first, then the top's.
             let inside = rows.partition_point(|&row| row < top_start);
-            let (updates_inside, updates_top) = g[w..].split_at(inside);
-            for (&row, &v) in rows[..inside].iter().zip(updates_inside) {
-                y[row - offset] += v;
-            }
-            for (&row, &v) in rows[inside..].iter().zip(updates_top) {
-                top[row - top_start] += v;
+            for (c, y) in ys.iter_mut().enumerate() {
+                g.clear();
+                g.extend_from_slice(&y[begin..begin + w]);
+                g.resize(m, T::zero());
+                eliminate_forward(block, m, w, &mut g);
+                y[begin..begin + w].copy_from_slice(&g[..w]);
+                let (updates_inside, updates_top) = g[w..].split_at(inside);
+                for (&row, &v) in rows[..inside].iter().zip(updates_inside) {
+                    y[row - offset] += v;
+                }
+                if !updates_top.is_empty() {
+                    let top = &mut tops[c];
+                    for (&row, &v) in rows[inside..].iter().zip(updates_top) {
+                        top[row - top_start] += v;
+                    }
+                }
             }
         }
     }
@@ -760,47 +783,67 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         x: &mut [T],
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
-        self.check_rhs(x.len())?;
-        self.backward(x, work, self.two_threads());
+        self.solve_upper_many_in_place_with(x, 1, work)
+    }
+
+    /// `X ← C⁻ᴴ X` for the `ncols` columns of `x`, each supernode's block read once for all
+    /// of them, as in [`Self::solve_lower_many_in_place_with`].
+    pub fn solve_upper_many_in_place_with(
+        &self,
+        x: &mut [T],
+        ncols: usize,
+        work: &mut Vec<T>,
+    ) -> Result<(), CholeskyError> {
+        self.check_many(x.len(), ncols)?;
+        self.backward(x, ncols, work, self.two_threads());
         Ok(())
     }
 
-    /// `x ← Pᵀ L⁻ᴴ x`: the top first, then on two threads with `split` the subtrees, which
-    /// only read the top's (final) unknowns.
-    fn backward(&self, x: &mut [T], work: &mut Vec<T>, split: Option<TwoWaySplit>) {
+    /// `X ← Pᵀ L⁻ᴴ X` for the `ncols` columns of `x`: the top first, then on two threads
+    /// with `split` the subtrees, which only read the top's (final) unknowns.
+    fn backward(&self, x: &mut [T], ncols: usize, work: &mut Vec<T>, split: Option<TwoWaySplit>) {
         let sym = &*self.symbolic;
         let n = sym.n;
+        if n == 0 || ncols == 0 {
+            return;
+        }
         let (first_end, second_end, c1, c2) = sym.bounds(split);
         let all = sym.supernodes();
         work.clear();
         work.extend_from_slice(x);
-        let (low, top) = work.split_at_mut(c2);
-        self.backward_range(second_end..all, top, c2, &[], n);
+        let (mut lows, mut tops): (Vec<&mut [T]>, Vec<&mut [T]>) =
+            work.chunks_exact_mut(n).map(|c| c.split_at_mut(c2)).unzip();
+        self.backward_range(second_end..all, &mut tops, c2, &[], n);
         if split.is_some() {
-            let (first, second) = low.split_at_mut(c1);
-            let top = &*top;
+            let (mut firsts, mut seconds): (Vec<&mut [T]>, Vec<&mut [T]>) =
+                lows.iter_mut().map(|c| c.split_at_mut(c1)).unzip();
+            let tops: Vec<&[T]> = tops.iter().map(|t| &**t).collect();
             std::thread::scope(|scope| {
                 let helper = scope.spawn(|| {
-                    self.backward_range(first_end..second_end, second, c1, top, c2);
+                    self.backward_range(first_end..second_end, &mut seconds, c1, &tops, c2);
                 });
-                self.backward_range(0..first_end, first, 0, top, c2);
+                self.backward_range(0..first_end, &mut firsts, 0, &tops, c2);
                 helper.join().expect("backward substitution thread");
             });
         }
-        for (new, &old) in sym.perm.iter().enumerate() {
-            x[old] = work[new];
+        drop((lows, tops));
+        for (column, solved) in x.chunks_exact_mut(n).zip(work.chunks_exact(n)) {
+            for (new, &old) in sym.perm.iter().enumerate() {
+                column[old] = solved[new];
+            }
         }
     }
 
-    /// Backward substitution through `supernodes` (in reverse order) on `y`, which holds the
-    /// unknowns `offset..offset + y.len()`; the unknowns `top_start..` are read from
-    /// `top[row − top_start]` (already final).
+    /// Backward substitution through `supernodes` (in reverse order) on every column of
+    /// `ys`, which hold the unknowns `offset..offset + len`; the unknowns `top_start..` are
+    /// read from `tops[c][row − top_start]` (already final; `tops` may be empty when no row
+    /// reaches `top_start`).
     fn backward_range(
         &self,
         supernodes: std::ops::Range<usize>,
-        y: &mut [T],
+        ys: &mut [&mut [T]],
         offset: usize,
-        top: &[T],
+        tops: &[&[T]],
         top_start: usize,
     ) {
         let sym = &*self.symbolic;
@@ -816,53 +859,100 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                 // ascending streams, not jumps back (measured: −25% time at 10k unknowns).
                 prefetch_head(&self.values[sym.value_ptr[s - 1]..sym.value_ptr[s]]);
             }
-            // y_s ← L₁₁⁻ᴴ (y_s − L₂₁ᴴ y[rows]) with g = [y_s; y[rows]] (the rows are final).
-            // The product with L₂₁ᴴ has no order constraint and runs with ascending
-            // addresses, as the forward solve does (hardware prefetchers follow that far
-            // better than the backward column order the triangular part needs).
             let inside = rows.partition_point(|&row| row < top_start);
-            g.clear();
-            g.extend_from_slice(&y[begin..begin + w]);
-            g.extend(rows[..inside].iter().map(|&row| y[row - offset]));
-            g.extend(rows[inside..].iter().map(|&row| top[row - top_start]));
-            let (head, below) = g.split_at_mut(w);
-            let below = &*below;
-            let mut j = 0;
-            while j < w {
-                if j + 1 < w {
-                    let (t0, t1) = inner_two(
-                        &block[j * m + w..(j + 1) * m],
-                        &block[(j + 1) * m + w..(j + 2) * m],
-                        below,
-                    );
-                    head[j] -= t0;
-                    head[j + 1] -= t1;
-                    j += 2;
-                } else {
-                    head[j] -= inner(&block[j * m + w..(j + 1) * m], below);
-                    j += 1;
+            for (c, y) in ys.iter_mut().enumerate() {
+                // g = [y_s; y[rows]] (the rows are final).
+                g.clear();
+                g.extend_from_slice(&y[begin..begin + w]);
+                g.extend(rows[..inside].iter().map(|&row| y[row - offset]));
+                if inside < rows.len() {
+                    let top = tops[c];
+                    g.extend(rows[inside..].iter().map(|&row| top[row - top_start]));
                 }
+                eliminate_backward(block, m, w, &mut g);
+                y[begin..begin + w].copy_from_slice(&g[..w]);
             }
-            // The triangular part, from the last column backwards, two columns at a time.
-            let mut j = w;
-            while j > 0 {
-                if j >= 2 {
-                    let (first, second) = (j - 2, j - 1);
-                    let previous = &block[first * m..first * m + w];
-                    let column = &block[second * m..second * m + w];
-                    let (t_first, t_second) = inner_two(&previous[j..], &column[j..], &g[j..w]);
-                    g[second] = (g[second] - t_second).scale(1.0 / column[second].re());
-                    g[first] = (g[first] - t_first - previous[second].conj() * g[second])
-                        .scale(1.0 / previous[first].re());
-                    j -= 2;
-                } else {
-                    let column = &block[..w];
-                    let t = inner(&column[1..], &g[1..w]);
-                    g[0] = (g[0] - t).scale(1.0 / column[0].re());
-                    j = 0;
-                }
-            }
-            y[begin..begin + w].copy_from_slice(&g[..w]);
+        }
+    }
+}
+
+/// `ncols` consecutive slices of length `len` of `buffer` (empty ones when `len` is 0).
+fn columns_mut<T>(buffer: &mut [T], len: usize, ncols: usize) -> Vec<&mut [T]> {
+    if len == 0 {
+        return (0..ncols).map(|_| <&mut [T]>::default()).collect();
+    }
+    buffer.chunks_exact_mut(len).collect()
+}
+
+/// One supernode of the forward substitution on one column: `g = [y_s; 0]` (length `m`)
+/// becomes `[L₁₁⁻¹ y_s; −L₂₁ L₁₁⁻¹ y_s]`, two columns of the block at a time.
+fn eliminate_forward<T: Scalar<Real = f64>>(block: &[T], m: usize, w: usize, g: &mut [T]) {
+    let mut j = 0;
+    while j < w {
+        let column = &block[j * m..(j + 1) * m];
+        g[j] = g[j].scale(1.0 / column[j].re());
+        if j + 1 < w {
+            let next = &block[(j + 1) * m..(j + 2) * m];
+            let gj = g[j];
+            g[j + 1] = (g[j + 1] - column[j + 1] * gj).scale(1.0 / next[j + 1].re());
+            let (x0, x1) = (g[j], g[j + 1]);
+            axpy_two(
+                &mut g[j + 2..],
+                &column[j + 2..],
+                &next[j + 2..],
+                T::zero() - x0,
+                T::zero() - x1,
+            );
+            j += 2;
+        } else {
+            let gj = g[j];
+            axpy(&mut g[j + 1..], &column[j + 1..], T::zero() - gj);
+            j += 1;
+        }
+    }
+}
+
+/// One supernode of the backward substitution on one column: with `g = [y_s; y[rows]]`,
+/// `y_s ← L₁₁⁻ᴴ (y_s − L₂₁ᴴ y[rows])` in `g[..w]`.
+fn eliminate_backward<T: Scalar<Real = f64>>(block: &[T], m: usize, w: usize, g: &mut [T]) {
+    // The product with L₂₁ᴴ has no order constraint and runs with ascending addresses, as the
+    // forward solve does (hardware prefetchers follow that far better than the backward
+    // column order the triangular part needs).
+    let (head, below) = g.split_at_mut(w);
+    let below = &*below;
+    let mut j = 0;
+    while j < w {
+        if j + 1 < w {
+            let (t0, t1) = inner_two(
+                &block[j * m + w..(j + 1) * m],
+                &block[(j + 1) * m + w..(j + 2) * m],
+                below,
+            );
+            head[j] -= t0;
+            head[j + 1] -= t1;
+            j += 2;
+        } else {
+            head[j] -= inner(&block[j * m + w..(j + 1) * m], below);
+            j += 1;
+        }
+    }
+    // The triangular part, from the last column backwards, two columns at a time.
+    let mut j = w;
+    while j > 0 {
+        if j >= 2 {
+            let (first, second) = (j - 2, j - 1);
+            let previous = &block[first * m..first * m + w];
+            let column = &block[second * m..second * m + w];
+            let (t_first, t_second) = inner_two(&previous[j..], &column[j..], &g[j..w]);
+            g[second] = (g[second] - t_second).scale(1.0 / column[second].re());
+            g[first] = (g[first] - t_first - previous[second].conj() * g[second])
+                .scale(1.0 / previous[first].re());
+            j -= 2;
+        } else {
+            let column = &block[..w];
+            let t = inner(&column[1..], &g[1..w]);
+            g[0] = (g[0] - t).scale(1.0 / column[0].re());
+            j = 0;
         }
     }
 }

@@ -227,6 +227,53 @@ fn two_threads_agree<T: Scalar<Real = f64>>(a: &SparseMatrix<T>, b: &[T]) -> boo
     two.stats().split_columns.is_some()
 }
 
+/// The many-column half-solves give every column exactly what the one-column half-solve gives
+/// it (the same operations in the same order), on one thread and on two; wrong lengths are
+/// typed errors.
+fn many_columns_are_single_columns<T: Scalar<Real = f64>>(
+    a: &SparseMatrix<T>,
+    rhs: &[T],
+) -> Result<(), TestCaseError> {
+    let n = a.nrows();
+    let ncols = rhs.len() / n.max(1);
+    let mut chol = SparseCholesky::factorize(a).unwrap();
+    let mut work = Vec::new();
+    for threads in [SolveThreads::One, SolveThreads::Two] {
+        chol.set_solve_threads(threads);
+        for lower in [true, false] {
+            let mut many = rhs.to_vec();
+            let mut single = rhs.to_vec();
+            if lower {
+                chol.solve_lower_many_in_place_with(&mut many, ncols, &mut work)
+                    .unwrap();
+            } else {
+                chol.solve_upper_many_in_place_with(&mut many, ncols, &mut work)
+                    .unwrap();
+            }
+            for column in single.chunks_exact_mut(n.max(1)) {
+                if lower {
+                    chol.solve_lower_in_place(column).unwrap();
+                } else {
+                    chol.solve_upper_in_place(column).unwrap();
+                }
+            }
+            prop_assert!(
+                many == single,
+                "{ncols} columns, {threads:?}, lower {lower}: differs from one column at a time"
+            );
+        }
+    }
+    let mut short = vec![T::zero(); n * ncols + 1];
+    prop_assert_eq!(
+        chol.solve_lower_many_in_place_with(&mut short, ncols, &mut work),
+        Err(CholeskyError::RhsDimension {
+            expected: n * ncols,
+            found: n * ncols + 1
+        })
+    );
+    Ok(())
+}
+
 /// The 30 × 30 grid splits into two subtrees below a small top, and the two-thread solves
 /// agree with the one-thread ones.
 fn grid_two_threads<T: Scalar<Real = f64>>() {
@@ -263,6 +310,11 @@ macro_rules! instantiate {
                 #[test]
                 fn two_threads(input in system::<$t>(1..60, 0.1, 1)) {
                     two_threads_agree(&input.0, &input.1);
+                }
+
+                #[test]
+                fn many_columns(input in (1..6usize).prop_flat_map(|ncols| system::<$t>(1..60, 0.1, ncols))) {
+                    many_columns_are_single_columns(&input.0, &input.1)?;
                 }
 
                 #[test]
@@ -320,6 +372,14 @@ macro_rules! instantiate {
             #[test]
             fn grid_on_two_threads() {
                 grid_two_threads::<$t>();
+            }
+
+            /// The grid's tree splits, so the two-thread many-column path runs its buffers.
+            #[test]
+            fn grid_many_columns_on_two_threads() {
+                let a = grid_connection_laplacian::<$t>(30);
+                let rhs: Vec<$t> = Lcg(9).vector(3 * a.nrows());
+                many_columns_are_single_columns(&a, &rhs).unwrap();
             }
 
             #[test]
