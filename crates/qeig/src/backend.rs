@@ -62,8 +62,9 @@ pub trait Backend<T: Scalar<Real = f64>> {
 /// The operator `A = C⁻¹ K C⁻ᴴ` of a pencil with `S = C Cᴴ`, and the maps to and from the
 /// pencil's vectors.
 pub trait PencilOperator<V>: HermitianOperator<V> {
-    /// `x = C⁻ᴴ y`: the pencil eigenvector of an eigenvector `y` of `A` (`xᴴ S x = yᴴ y`).
-    fn eigenvector(&mut self, y: &[V]) -> Vec<V>;
+    /// `X ← C⁻ᴴ Y` for the columns of `ys` (column after column): the pencil eigenvectors
+    /// `x = C⁻ᴴ y` of eigenvectors `y` of `A` (`xᴴ S x = yᴴ y`).
+    fn eigenvectors_in_place(&mut self, ys: &mut [V]);
     /// `C⁻¹ c`: the constraint `cᴴ x = 0` on pencil vectors is orthogonality to this vector
     /// in the iteration space (`cᴴ x = cᴴ C⁻ᴴ y = (C⁻¹ c)ᴴ y`).
     fn constraint_direction(&mut self, c: &[V]) -> Vec<V>;
@@ -72,12 +73,31 @@ pub trait PencilOperator<V>: HermitianOperator<V> {
     fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>);
 }
 
+/// Vectors that share one read of the factor in the many-vector half-solves
+/// ([`Factor::lower_many`]): a supernode's block is reused from cache for all of them, which
+/// halves the time per vector of a half-solve on 40k–160k unknowns (docs/PERFORMANCE.md),
+/// while eight quaternion vectors of a 40k-vertex mesh are only 11 MB of work space. (Sparse
+/// products gain nothing from the same sharing: their quaternion multiply-adds, not the
+/// matrix's memory traffic, bound them.)
+pub const VECTORS_PER_PASS: usize = 8;
+
 /// Half-solves with the Cholesky factor `C` of `S = C Cᴴ`.
 pub trait Factor<V> {
     /// `x ← C⁻¹ x`.
     fn lower(&mut self, x: &mut [V]);
     /// `x ← C⁻ᴴ x`.
     fn upper(&mut self, x: &mut [V]);
+    /// `X ← C⁻¹ X` for the `ncols` columns of `x` (column after column); factors that read
+    /// their values once for all columns override it.
+    fn lower_many(&mut self, x: &mut [V], ncols: usize) {
+        let n = x.len() / ncols.max(1);
+        x.chunks_exact_mut(n.max(1)).for_each(|c| self.lower(c));
+    }
+    /// `X ← C⁻ᴴ X`, as [`Factor::lower_many`].
+    fn upper_many(&mut self, x: &mut [V], ncols: usize) {
+        let n = x.len() / ncols.max(1);
+        x.chunks_exact_mut(n.max(1)).for_each(|c| self.upper(c));
+    }
     /// Bytes of the stored factor values.
     fn bytes(&self) -> usize;
 }
@@ -121,15 +141,17 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> FactoredPencil<V, F, M> 
         }
     }
 
-    fn timed(&mut self, x: &mut [V], lower: bool) {
+    /// `X ← C⁻¹ X` (`lower`) or `X ← C⁻ᴴ X` for the `ncols` columns of `x`, timed and counted
+    /// (one solve per column).
+    fn timed(&mut self, x: &mut [V], ncols: usize, lower: bool) {
         let t = Instant::now();
         if lower {
-            self.factor.lower(x);
+            self.factor.lower_many(x, ncols);
         } else {
-            self.factor.upper(x);
+            self.factor.upper_many(x, ncols);
         }
         self.solve_time += t.elapsed();
-        self.solves += 1;
+        self.solves += ncols;
     }
 }
 
@@ -143,23 +165,39 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
     fn apply(&mut self, x: &[V], y: &mut [V]) {
         let mut t = std::mem::take(&mut self.work);
         t.copy_from_slice(x);
-        self.timed(&mut t, false);
+        self.timed(&mut t, 1, false);
         self.k_mul(&t, y);
-        self.timed(y, true);
+        self.timed(y, 1, true);
         self.work = t;
     }
 
     /// `‖K x − θ S x‖ / (|θ| ‖S x‖)` with `x = C⁻ᴴ y` (Euclidean norms, which the real-block
     /// and complex-adjoint embeddings preserve).
     fn relative_residual(&mut self, y: &[V], theta: f64) -> f64 {
-        let x = self.eigenvector(y);
-        let n = x.len();
-        let (mut kx, mut sx) = (vec![V::zero(); n], vec![V::zero(); n]);
-        self.k_mul(&x, &mut kx);
-        self.s.mul(&x, &mut sx);
-        let s_norm = vector::norm(&sx);
-        vector::axpy(&mut kx, &sx, V::from_real(-theta));
-        vector::norm(&kx) / (theta.abs() * s_norm)
+        self.relative_residuals(y, &[theta])[0]
+    }
+
+    /// [`HermitianOperator::relative_residual`] of [`VECTORS_PER_PASS`] pairs at a time, each
+    /// half-solve reading the factor once for all of them.
+    fn relative_residuals(&mut self, ys: &[V], thetas: &[f64]) -> Vec<f64> {
+        let n = self.dim();
+        let mut residuals = Vec::with_capacity(thetas.len());
+        for (ys, thetas) in ys
+            .chunks(VECTORS_PER_PASS * n)
+            .zip(thetas.chunks(VECTORS_PER_PASS))
+        {
+            let mut x = ys.to_vec();
+            self.eigenvectors_in_place(&mut x);
+            let (mut kx, mut sx) = (vec![V::zero(); n], vec![V::zero(); n]);
+            for (x, &theta) in x.chunks_exact(n).zip(thetas) {
+                self.k_mul(x, &mut kx);
+                self.s.mul(x, &mut sx);
+                let s_norm = vector::norm(&sx);
+                vector::axpy(&mut kx, &sx, V::from_real(-theta));
+                residuals.push(vector::norm(&kx) / (theta.abs() * s_norm));
+            }
+        }
+        residuals
     }
 
     fn solve_statistics(&self) -> (usize, Duration) {
@@ -174,15 +212,14 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
 impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
     for FactoredPencil<V, F, M>
 {
-    fn eigenvector(&mut self, y: &[V]) -> Vec<V> {
-        let mut x = y.to_vec();
-        self.timed(&mut x, false);
-        x
+    fn eigenvectors_in_place(&mut self, ys: &mut [V]) {
+        let ncols = ys.len() / self.dim();
+        self.timed(ys, ncols, false);
     }
 
     fn constraint_direction(&mut self, c: &[V]) -> Vec<V> {
         let mut y = c.to_vec();
-        self.timed(&mut y, true);
+        self.timed(&mut y, 1, true);
         y
     }
 
@@ -218,6 +255,18 @@ impl<T: Scalar<Real = f64>> Factor<T> for NativeFactor<T> {
         self.cholesky
             .solve_upper_in_place_with(x, &mut self.work)
             .expect("vector length equals the factor dimension");
+    }
+
+    fn lower_many(&mut self, x: &mut [T], ncols: usize) {
+        self.cholesky
+            .solve_lower_many_in_place_with(x, ncols, &mut self.work)
+            .expect("vector lengths equal the factor dimension");
+    }
+
+    fn upper_many(&mut self, x: &mut [T], ncols: usize) {
+        self.cholesky
+            .solve_upper_many_in_place_with(x, ncols, &mut self.work)
+            .expect("vector lengths equal the factor dimension");
     }
 
     fn bytes(&self) -> usize {

@@ -60,6 +60,11 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         &self.data[i * self.n..(i + 1) * self.n]
     }
 
+    /// Columns `start..start + count`, column after column.
+    pub(crate) fn columns(&self, start: usize, count: usize) -> &[V] {
+        &self.data[start * self.n..(start + count) * self.n]
+    }
+
     /// Appends a column (growing the storage by one column beyond what
     /// [`Basis::reserve_columns`] reserved, never by doubling: a doubled Krylov basis would not
     /// fit where the reserved one does).

@@ -141,6 +141,15 @@ pub trait HermitianOperator<V> {
     /// The relative residual by which the pair `(θ, y)` (`y` a unit vector of the iteration
     /// space) is accepted; for a pencil, that of the mapped-back pair.
     fn relative_residual(&mut self, y: &[V], theta: f64) -> f64;
+    /// [`HermitianOperator::relative_residual`] of the pairs `(thetas[j], yⱼ)`, the vectors
+    /// `yⱼ` stored column after column in `ys`. Operators that read their data once for
+    /// several vectors (a factor, a sparse matrix) override it.
+    fn relative_residuals(&mut self, ys: &[V], thetas: &[f64]) -> Vec<f64> {
+        let n = self.dim();
+        (ys.chunks_exact(n).zip(thetas))
+            .map(|(y, &theta)| self.relative_residual(y, theta))
+            .collect()
+    }
     /// Triangular solves so far and the time they took (zero for operators without any).
     fn solve_statistics(&self) -> (usize, Duration) {
         (0, Duration::ZERO)
@@ -569,11 +578,13 @@ where
         let (which, tol) = (self.options.which, self.options.tolerance);
         let base = self.base();
         let kth_before = kth_best(which, &self.locked, self.k);
+        let thetas: Vec<f64> = candidates.iter().map(|&i| pairs.theta[i]).collect();
+        let residuals =
+            (self.op).relative_residuals(self.basis.columns(base, candidates.len()), &thetas);
         let mut newly_locked = Vec::new();
-        for (c, &i) in candidates.iter().enumerate() {
+        for (c, (&i, residual)) in candidates.iter().zip(residuals).enumerate() {
             let theta = pairs.theta[i];
             let at_rounding_level = pairs.estimate[i] <= ROUNDING * self.norm_estimate;
-            let residual = self.op.relative_residual(self.basis.col(base + c), theta);
             if residual <= tol || at_rounding_level {
                 newly_locked.push(c);
                 let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));

@@ -54,6 +54,7 @@ mod result;
 pub use backend::{
     Backend, ComplexAdjoint, ComplexAdjointOperator, Factor, FactoredPencil, FaerCholesky, MatVec,
     Native, NativeFactor, NativeOperator, PencilOperator, RealBlock, RealBlockOperator,
+    VECTORS_PER_PASS,
 };
 pub use error::{BasisTooLarge, DenseEigenError, EigError, EmbeddedFactorizationError};
 pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};

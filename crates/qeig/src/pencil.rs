@@ -20,6 +20,7 @@ use std::time::Instant;
 use qscalar::Scalar;
 use qsparse::{DenseMatrix, SparseMatrix, vector};
 
+use crate::backend::VECTORS_PER_PASS;
 use crate::basis::Basis;
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
@@ -127,24 +128,15 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         Ok(self)
     }
 
-    /// `(K − Σ w u uᴴ) x`.
-    fn k_mul(&self, x: &[T]) -> Vec<T> {
-        let mut y = vec![T::zero(); x.len()];
-        self.k.mul_vec(x, &mut y).expect("length n");
-        for (u, w) in &self.low_rank {
-            vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
-        }
-        y
-    }
-
-    /// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
-    fn relative_residual(&self, mu: f64, x: &[T]) -> f64 {
-        let mut kx = self.k_mul(x);
-        let mut sx = vec![T::zero(); x.len()];
+    /// `((K − Σ w u uᴴ) x, S x)`.
+    fn products(&self, x: &[T]) -> (Vec<T>, Vec<T>) {
+        let (mut kx, mut sx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
+        self.k.mul_vec(x, &mut kx).expect("length n");
         self.s.mul_vec(x, &mut sx).expect("length n");
-        let s_norm = vector::norm(&sx);
-        vector::axpy(&mut kx, &sx, T::from_real(-mu));
-        vector::norm(&kx) / (mu.abs() * s_norm)
+        for (u, w) in &self.low_rank {
+            vector::axpy(&mut kx, u, vector::inner(u, x) * T::from_real(-w));
+        }
+        (kx, sx)
     }
 
     /// Dimension `n`.
@@ -217,29 +209,34 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)?;
         let mut values = Vec::new();
         let mut vectors = Vec::new();
-        // Consumed pair by pair, so that the iteration-space vectors and the pencil's are never
-        // all held at once (at a million unknowns, k vectors are gigabytes).
-        for (y, &theta) in outcome.vectors.into_iter().zip(&outcome.values) {
-            for x in backend.extract(&op.eigenvector(&y)) {
-                values.push(theta);
-                vectors.push(x);
+        // `x = C⁻ᴴ y`, a few pairs per read of the factor, consuming the iteration vectors as
+        // it goes, so that they and the pencil's are never all held at once (at a million
+        // unknowns, k vectors are gigabytes).
+        let mut iteration_vectors = outcome.vectors.into_iter();
+        for thetas in outcome.values.chunks(VECTORS_PER_PASS) {
+            let mut block: Vec<B::Field> = (iteration_vectors.by_ref())
+                .take(thetas.len())
+                .flatten()
+                .collect();
+            op.eigenvectors_in_place(&mut block);
+            for (y, &theta) in block.chunks_exact(dim).zip(thetas) {
+                for x in backend.extract(y) {
+                    values.push(theta);
+                    vectors.push(x);
+                }
             }
         }
-        let (mut values, mut vectors) = fold(
-            |x| self.k_mul(x),
-            self.s,
+        let mut pairs = fold(
+            |x| self.products(x),
             &values,
             vectors,
             options.which,
             options.tolerance,
         )?;
-        values.truncate(options.k);
-        vectors.truncate(options.k);
-        let residuals = values
-            .iter()
-            .zip(&vectors)
-            .map(|(&mu, x)| self.relative_residual(mu, x))
-            .collect();
+        pairs.truncate(options.k);
+        let values = pairs.iter().map(|p| p.value).collect();
+        let residuals = pairs.iter().map(|p| p.residual).collect();
+        let vectors = pairs.into_iter().map(|p| p.vector).collect();
         let mut statistics = outcome.statistics;
         (statistics.solves, statistics.solve_time) = op.solve_statistics();
         statistics.factorization_time = factorization_time;
@@ -261,8 +258,61 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     }
 }
 
-/// Eigenvalues and eigenvectors, in matching order.
-type Pairs<T> = (Vec<f64>, Vec<Vec<T>>);
+/// A pair of the pencil after folding, with its relative residual
+/// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
+struct Folded<T> {
+    value: f64,
+    vector: Vec<T>,
+    residual: f64,
+}
+
+/// A vector `x` with `K x` and `S x`, carried through the linear combinations of the fold so
+/// that the residuals need no further products.
+struct WithProducts<T> {
+    x: Vec<T>,
+    kx: Vec<T>,
+    sx: Vec<T>,
+}
+
+impl<T: Scalar<Real = f64>> WithProducts<T> {
+    /// `Σₐ basisₐ c(a)` (`basis` not empty), all three vectors.
+    fn combination(basis: &[Self], c: impl Fn(usize) -> T) -> Self {
+        let scaled = |v: &[T]| v.iter().map(|&e| e * c(0)).collect();
+        let mut sum = Self {
+            x: scaled(&basis[0].x),
+            kx: scaled(&basis[0].kx),
+            sx: scaled(&basis[0].sx),
+        };
+        for (a, q) in basis.iter().enumerate().skip(1) {
+            sum.axpy(q, c(a));
+        }
+        sum
+    }
+
+    /// `self ← self + other c`, all three vectors.
+    fn axpy(&mut self, other: &Self, c: T) {
+        vector::axpy(&mut self.x, &other.x, c);
+        vector::axpy(&mut self.kx, &other.kx, c);
+        vector::axpy(&mut self.sx, &other.sx, c);
+    }
+
+    fn scale(&mut self, factor: f64) {
+        vector::scale(&mut self.x, factor);
+        vector::scale(&mut self.kx, factor);
+        vector::scale(&mut self.sx, factor);
+    }
+
+    /// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
+    fn relative_residual(mut self, mu: f64) -> Folded<T> {
+        let s_norm = vector::norm(&self.sx);
+        vector::axpy(&mut self.kx, &self.sx, T::from_real(-mu));
+        Folded {
+            value: mu,
+            residual: vector::norm(&self.kx) / (mu.abs() * s_norm),
+            vector: self.x,
+        }
+    }
+}
 
 /// The unit `e_u` whose only non-zero component is component `u` (`1, i, j, k` for
 /// quaternions; `u < REAL_DIM`).
@@ -273,22 +323,20 @@ fn unit<T: Scalar<Real = f64>>(u: usize) -> T {
 }
 
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
-/// returns them sorted by wantedness.
+/// returns them sorted by wantedness, with their residuals. `products(x)` gives `(K x, S x)`.
 fn fold<T: Scalar<Real = f64>>(
-    k: impl Fn(&[T]) -> Vec<T>,
-    s: &SparseMatrix<T>,
+    products: impl Fn(&[T]) -> (Vec<T>, Vec<T>),
     values: &[f64],
     vectors: Vec<Vec<T>>,
     which: Which,
     tol: f64,
-) -> Result<Pairs<T>, EigError<T>> {
-    let n = s.nrows();
+) -> Result<Vec<Folded<T>>, EigError<T>> {
     let gap = (100.0 * tol).max(1e-8);
     let floor = ROUNDING * values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let mut vectors: Vec<Option<Vec<T>>> = vectors.into_iter().map(Some).collect();
-    let mut pairs: Vec<(f64, Vec<T>)> = Vec::new();
+    let mut pairs = Vec::new();
     let mut start = 0;
     while start < order.len() {
         let mut end = start + 1;
@@ -299,54 +347,51 @@ fn fold<T: Scalar<Real = f64>>(
             }
             end += 1;
         }
-        // Residual vectors and their S-images, projected as vectors are accepted.
-        let mut members: Vec<(Vec<T>, Vec<T>)> = order[start..end]
-            .iter()
+        let members = (order[start..end].iter())
             .map(|&i| {
                 let x = vectors[i].take().expect("each vector is used once");
-                let mut sx = vec![T::zero(); n];
-                s.mul_vec(&x, &mut sx).expect("length n");
-                (x, sx)
+                let (kx, sx) = products(&x);
+                WithProducts { x, kx, sx }
             })
             .collect();
-        let mut basis: Vec<Vec<T>> = Vec::new();
-        while !members.is_empty() {
-            let norms: Vec<f64> = members
-                .iter()
-                .map(|(x, sx)| vector::inner(x, sx).re().max(0.0).sqrt())
-                .collect();
-            let (best, &norm) = norms
-                .iter()
-                .enumerate()
-                .max_by(|a, b| a.1.total_cmp(b.1))
-                .expect("non-empty");
-            if norm < 0.1 {
-                break;
-            }
-            let (mut q, mut sq) = members.swap_remove(best);
-            vector::scale(&mut q, 1.0 / norm);
-            vector::scale(&mut sq, 1.0 / norm);
-            for (x, sx) in &mut members {
-                let c = vector::inner(&sq, x);
-                vector::axpy(x, &q, -c);
-                vector::axpy(sx, &sq, -c);
-            }
-            basis.push(q);
-        }
-        // Rayleigh–Ritz on the cluster: H = Qᴴ K Q.
-        let kq: Vec<Vec<T>> = basis.iter().map(|q| k(q)).collect();
-        let m = basis.len();
-        let h = DenseMatrix::from_fn(m, m, |a, b| vector::inner(&basis[a], &kq[b]));
-        let eig = hermitian_eigen(&h)?;
-        for (j, &mu) in eig.values.iter().enumerate() {
-            let mut x = vec![T::zero(); n];
-            for (a, q) in basis.iter().enumerate() {
-                vector::axpy(&mut x, q, eig.vectors[(a, j)]);
-            }
-            pairs.push((mu, x));
-        }
+        pairs.extend(rayleigh_ritz(members)?);
         start = end;
     }
-    pairs.sort_by(|a, b| which.score(b.0).total_cmp(&which.score(a.0)));
-    Ok(pairs.into_iter().unzip())
+    pairs.sort_by(|a, b| which.score(b.value).total_cmp(&which.score(a.value)));
+    Ok(pairs)
+}
+
+/// One cluster: an `S`-orthonormal basis by pivoted Gram–Schmidt (coefficients on the right;
+/// members whose remaining `S`-norm is below 0.1 are dropped as dependent), then the
+/// eigenpairs of `Qᴴ K Q`.
+fn rayleigh_ritz<T: Scalar<Real = f64>>(
+    mut members: Vec<WithProducts<T>>,
+) -> Result<Vec<Folded<T>>, EigError<T>> {
+    let mut basis: Vec<WithProducts<T>> = Vec::new();
+    while !members.is_empty() {
+        let norms: Vec<f64> = (members.iter())
+            .map(|m| vector::inner(&m.x, &m.sx).re().max(0.0).sqrt())
+            .collect();
+        let (best, &norm) = (norms.iter().enumerate())
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .expect("non-empty");
+        if norm < 0.1 {
+            break;
+        }
+        let mut q = members.swap_remove(best);
+        q.scale(1.0 / norm);
+        for m in &mut members {
+            let c = vector::inner(&q.sx, &m.x);
+            m.axpy(&q, -c);
+        }
+        basis.push(q);
+    }
+    let m = basis.len();
+    let h = DenseMatrix::from_fn(m, m, |a, b| vector::inner(&basis[a].x, &basis[b].kx));
+    let eig = hermitian_eigen(&h)?;
+    Ok((eig.values.iter().enumerate())
+        .map(|(j, &mu)| {
+            WithProducts::combination(&basis, |a| eig.vectors[(a, j)]).relative_residual(mu)
+        })
+        .collect())
 }
