@@ -66,13 +66,13 @@ use std::str::FromStr;
 
 use qeig::{ProgressCallback, Statistics};
 use qscalar::{Quat, Scalar};
-use qsparse::{CholeskyError, SparseMatrix};
+use qsparse::{CholeskyError, SparseMatrix, vector};
 use thiserror::Error;
 
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, flatness_around};
 use pencil::{Form, Matrices, OperatorPencil, PencilSpec};
-use solve::{Pairs, SolveError, pencil_residual_vector};
+use solve::{Pairs, SolveError, products};
 
 use crate::geometry::barycentric_masses;
 use crate::operators::OperatorError;
@@ -655,9 +655,13 @@ pub enum SpectrumError {
     /// A factorisation needed to set up the pencil failed.
     #[error(transparent)]
     Factorization(#[from] CholeskyError),
-    /// The eigensolver failed.
+    /// The eigensolver failed (other than by not converging, which is
+    /// [`SpectrumError::NotConverged`]). The source is the solver's typed error,
+    /// `qeig::EigError<f64>` for real operators and `qeig::EigError<Quat<f64>>` for the others
+    /// (`downcast_ref` recovers it); its variants say what to change, for example
+    /// `BasisTooLarge` names the memory the Krylov basis needs.
     #[error("eigensolver: {0}")]
-    Eigen(String),
+    Eigen(#[source] std::sync::Arc<dyn std::error::Error + Send + Sync>),
     /// The eigensolver's tolerance is not in `(0, 1)`.
     #[error("tolerance {0} must lie strictly between 0 and 1")]
     InvalidTolerance(f64),
@@ -1185,7 +1189,10 @@ impl Residual {
                 .sum::<f64>()
                 .sqrt()
         };
-        let difference = dual(&pencil_residual_vector(m, lambda, x));
+        // `P x` and `Q x` once: the difference and the scale both need `Q x`.
+        let (mut residual, qx) = products(m, x);
+        vector::axpy(&mut residual, &qx, T::from_real(-lambda));
+        let difference = dual(&residual);
         let x_norm = mass_norm(masses, x);
         // An exact pair (`P x = λ Q x` to the last bit, as for the kernel of an operator that
         // vanishes identically, `P = Q = 0`) has no error, whatever the norms.
@@ -1199,10 +1206,6 @@ impl Residual {
         let relative = if lambda == 0.0 {
             ratio(norms.0 * x_norm)
         } else {
-            let mut qx = vec![T::zero(); x.len()];
-            m.coupling
-                .mul_vec(x, &mut qx)
-                .expect("square operator of the vector's size");
             ratio(lambda.abs() * dual(&qx))
         };
         Self {

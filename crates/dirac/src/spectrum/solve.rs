@@ -109,14 +109,28 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
                 _ => remove_mass_mean(masses, &mode.vertices, x),
             }
         }
-        if form == Form::Pinned {
-            // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
-            // error is second order in the vector's, where `1/μ` is first order.
-            *lambda = rayleigh_quotient(&matrices.stiffness, x)
-                / rayleigh_quotient(&matrices.coupling, x);
+    }
+    if form == Form::Pinned {
+        // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
+        // error is second order in the vector's, where `1/μ` is first order.
+        for (x, lambda) in pairs.vectors.iter().zip(&mut pairs.values) {
+            let (px, qx) = products(matrices, x);
+            *lambda = vector::inner(x, &px).re() / vector::inner(x, &qx).re();
         }
     }
     Ok(pairs)
+}
+
+/// `(P x, Q x)`.
+pub(super) fn products<T: Scalar<Real = f64>>(m: &Matrices<T>, x: &[T]) -> (Vec<T>, Vec<T>) {
+    let (mut px, mut qx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
+    m.stiffness
+        .mul_vec(x, &mut px)
+        .expect("square operator of the vector's size");
+    m.coupling
+        .mul_vec(x, &mut qx)
+        .expect("square operator of the vector's size");
+    (px, qx)
 }
 
 /// The reduced problem of each form (docs/MATH.md, "The exact kernel"):
@@ -254,7 +268,7 @@ fn run<T: Scalar<Real = f64>>(
     options: &SpectrumOptions,
     progress: ProgressCallback,
 ) -> Result<(Eigen<T>, bool), SolveError> {
-    let eigen_error = |e: EigError<T>| SpectrumError::Eigen(e.to_string());
+    let eigen_error = |e: EigError<T>| SpectrumError::Eigen(std::sync::Arc::new(e));
     let pencil = Pencil::new(&reduced.k, &reduced.s)
         .and_then(|p| p.with_constraints(reduced.constraints.clone()))
         .and_then(|p| p.with_low_rank_update(reduced.low_rank.clone()))
@@ -301,18 +315,8 @@ fn restore_constant<T: Scalar<Real = f64>>(
 }
 
 /// `P x − λ Q x`.
-pub(super) fn pencil_residual_vector<T: Scalar<Real = f64>>(
-    m: &Matrices<T>,
-    lambda: f64,
-    x: &[T],
-) -> Vec<T> {
-    let (mut px, mut qx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
-    m.stiffness
-        .mul_vec(x, &mut px)
-        .expect("square operator of the vector's size");
-    m.coupling
-        .mul_vec(x, &mut qx)
-        .expect("square operator of the vector's size");
+fn pencil_residual_vector<T: Scalar<Real = f64>>(m: &Matrices<T>, lambda: f64, x: &[T]) -> Vec<T> {
+    let (mut px, qx) = products(m, x);
     vector::axpy(&mut px, &qx, T::from_real(-lambda));
     px
 }
@@ -323,12 +327,4 @@ fn remove_mass_mean<T: Scalar<Real = f64>>(masses: &[f64], support: &[usize], x:
     let total: f64 = support.iter().map(|&p| masses[p]).sum();
     let mean = (support.iter().map(|&p| x[p].scale(masses[p])).sum::<T>()).scale(1.0 / total);
     support.iter().for_each(|&p| x[p] -= mean);
-}
-
-/// `Re(x* A x)`.
-fn rayleigh_quotient<T: Scalar<Real = f64>>(a: &SparseMatrix<T>, x: &[T]) -> f64 {
-    let mut ax = vec![T::zero(); x.len()];
-    a.mul_vec(x, &mut ax)
-        .expect("square operator of the vector's size");
-    vector::inner(x, &ax).re()
 }
