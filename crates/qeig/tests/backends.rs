@@ -4,7 +4,10 @@
 mod common;
 
 use common::{Rng, columns, dense_truth, distance_to_span, random_hermitian, random_hpd, s_inner};
-use qeig::{Backend, ComplexAdjoint, LanczosOptions, Native, Pencil, RealBlock, Which};
+use qeig::{
+    Backend, ComplexAdjoint, HermitianOperator, LanczosOptions, Native, Pencil, RealBlock,
+    VECTORS_PER_PASS, Which,
+};
 use qscalar::{Complex, Quat, Scalar};
 use qsparse::SparseMatrix;
 
@@ -28,7 +31,7 @@ fn check<T: Scalar<Real = f64>, B: Backend<T>>(
     let mut order: Vec<usize> = (0..truth.values.len()).collect();
     order.sort_by(|&a, &b| score(which, truth.values[b]).total_cmp(&score(which, truth.values[a])));
     let options = LanczosOptions {
-        max_dim: 20,
+        max_dim: (2 * k + 8).max(20),
         ..LanczosOptions::new(k, which)
     };
     let eig = Pencil::new(k_mat, s_mat)
@@ -104,4 +107,37 @@ fn complex_pencils_agree_with_dense() {
 #[test]
 fn real_pencils_agree_with_dense() {
     all_backends::<f64>(21);
+}
+
+/// More pairs than one pass of the many-vector half-solves holds: the chunked residuals of the
+/// candidates and the chunked eigenvector extraction keep every pair right.
+#[test]
+fn more_pairs_than_one_pass() {
+    let mut rng = Rng::new(5);
+    let n = 80;
+    let k_mat = random_hermitian::<Quat<f64>>(n, 3, 0.0, &mut rng);
+    let s_mat = random_hpd::<Quat<f64>>(n, &mut rng);
+    let k = 2 * VECTORS_PER_PASS + 3;
+    check(&Native, &k_mat, &s_mat, k, Which::LargestMagnitude);
+    check(&RealBlock, &k_mat, &s_mat, k, Which::SmallestAlgebraic);
+}
+
+/// The residuals of several pairs at once are exactly those of each pair alone (the
+/// many-column half-solve gives every column the one-column result).
+#[test]
+fn residuals_of_many_pairs_are_those_of_each() {
+    let mut rng = Rng::new(8);
+    let n = 50;
+    let k_mat = random_hermitian::<Quat<f64>>(n, 3, 0.0, &mut rng);
+    let s_mat = random_hpd::<Quat<f64>>(n, &mut rng);
+    let mut op = Native.prepare(&k_mat, &s_mat).unwrap();
+    let count = VECTORS_PER_PASS + 3;
+    let ys: Vec<Quat<f64>> = (0..n * count).map(|_| rng.scalar()).collect();
+    let thetas: Vec<f64> = (0..count).map(|i| 0.5 + i as f64).collect();
+    let together = op.relative_residuals(&ys, &thetas);
+    let each: Vec<f64> = (ys.chunks_exact(n).zip(&thetas))
+        .map(|(y, &theta)| op.relative_residual(y, theta))
+        .collect();
+    assert_eq!(together.len(), count);
+    assert_eq!(together, each);
 }
