@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Rng, columns, dense_truth, distance_to_span, random_hermitian, random_hpd, s_inner};
+use common::{Rng, columns, dense_truth, distance_to_span, random_pencil, s_inner};
 use qeig::{
     Backend, ComplexAdjoint, HermitianOperator, LanczosOptions, Native, Pencil, RealBlock,
     VECTORS_PER_PASS, Which,
@@ -79,8 +79,7 @@ fn check<T: Scalar<Real = f64>, B: Backend<T>>(
 fn all_backends<T: Scalar<Real = f64>>(seed: u64) {
     let mut rng = Rng::new(seed);
     let n = 60;
-    let k_mat = random_hermitian::<T>(n, 3, 0.0, &mut rng);
-    let s_mat = random_hpd::<T>(n, &mut rng);
+    let (k_mat, s_mat) = random_pencil::<T>(n, 3, &mut rng);
     for which in [
         Which::LargestMagnitude,
         Which::LargestAlgebraic,
@@ -115,8 +114,7 @@ fn real_pencils_agree_with_dense() {
 fn more_pairs_than_one_pass() {
     let mut rng = Rng::new(5);
     let n = 80;
-    let k_mat = random_hermitian::<Quat<f64>>(n, 3, 0.0, &mut rng);
-    let s_mat = random_hpd::<Quat<f64>>(n, &mut rng);
+    let (k_mat, s_mat) = random_pencil::<Quat<f64>>(n, 3, &mut rng);
     let k = 2 * VECTORS_PER_PASS + 3;
     check(&Native, &k_mat, &s_mat, k, Which::LargestMagnitude);
     check(&RealBlock, &k_mat, &s_mat, k, Which::SmallestAlgebraic);
@@ -128,8 +126,7 @@ fn more_pairs_than_one_pass() {
 fn residuals_of_many_pairs_are_those_of_each() {
     let mut rng = Rng::new(8);
     let n = 50;
-    let k_mat = random_hermitian::<Quat<f64>>(n, 3, 0.0, &mut rng);
-    let s_mat = random_hpd::<Quat<f64>>(n, &mut rng);
+    let (k_mat, s_mat) = random_pencil::<Quat<f64>>(n, 3, &mut rng);
     let mut op = Native.prepare(&k_mat, &s_mat).unwrap();
     let count = VECTORS_PER_PASS + 3;
     let ys: Vec<Quat<f64>> = (0..n * count).map(|_| rng.scalar()).collect();

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Rng, cycle_laplacian, dense_truth, random_hermitian, random_hpd, s_inner};
+use common::{Rng, cycle_laplacian, dense_truth, random_pencil, s_inner};
 use qeig::{Backend, ComplexAdjoint, LanczosOptions, Native, Pencil, RealBlock, Which};
 use qscalar::{Quat, Scalar};
 use qsparse::{SparseMatrix, TripletMatrix};
@@ -72,8 +72,7 @@ fn cycle_graph_pairs_complex_adjoint() {
 fn threefold_block_pencil() {
     let mut rng = Rng::new(7);
     let m = 15;
-    let kb = random_hermitian::<Quat<f64>>(m, 2, 0.0, &mut rng);
-    let sb = random_hpd::<Quat<f64>>(m, &mut rng);
+    let (kb, sb) = random_pencil::<Quat<f64>>(m, 2, &mut rng);
     let truth = dense_truth(&kb, &sb);
     let copies = 3;
     let spread = |a: &SparseMatrix<Quat<f64>>| {

@@ -73,6 +73,17 @@ pub fn random_hpd<T: Scalar<Real = f64>>(n: usize, rng: &mut Rng) -> SparseMatri
     t.to_csc()
 }
 
+/// A random Hermitian `K` ([`random_hermitian`] with `nnz_per_col`) and a random HPD `S`, both
+/// `n × n`.
+pub fn random_pencil<T: Scalar<Real = f64>>(
+    n: usize,
+    nnz_per_col: usize,
+    rng: &mut Rng,
+) -> (SparseMatrix<T>, SparseMatrix<T>) {
+    let k = random_hermitian::<T>(n, nnz_per_col, 0.0, rng);
+    (k, random_hpd::<T>(n, rng))
+}
+
 /// Dense truth of the pencil.
 pub fn dense_truth<T: Scalar<Real = f64>>(
     k: &SparseMatrix<T>,
