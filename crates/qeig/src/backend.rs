@@ -75,8 +75,9 @@ pub trait PencilOperator<V>: HermitianOperator<V> {
 
 /// Vectors that share one read of the factor in the many-vector half-solves
 /// ([`Factor::lower_many`]): a supernode's block is reused from cache for all of them, which
-/// halves the time per vector of a half-solve on 40k–160k unknowns (docs/PERFORMANCE.md),
-/// while eight quaternion vectors of a 40k-vertex mesh are only 11 MB of work space. (Sparse
+/// cut the time per vector of the two half-solves by 2.2× at 41k and 1.5× at 164k unknowns
+/// (docs/PERFORMANCE.md), while eight quaternion vectors of a 40k-vertex mesh are only 11 MB
+/// of work space. (Sparse
 /// products gain nothing from the same sharing: their quaternion multiply-adds, not the
 /// matrix's memory traffic, bound them.)
 pub const VECTORS_PER_PASS: usize = 8;

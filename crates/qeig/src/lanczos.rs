@@ -143,7 +143,7 @@ pub trait HermitianOperator<V> {
     fn relative_residual(&mut self, y: &[V], theta: f64) -> f64;
     /// [`HermitianOperator::relative_residual`] of the pairs `(thetas[j], yⱼ)`, the vectors
     /// `yⱼ` stored column after column in `ys`. Operators that read their data once for
-    /// several vectors (a factor, a sparse matrix) override it.
+    /// several vectors (a factor's half-solves) override it.
     fn relative_residuals(&mut self, ys: &[V], thetas: &[f64]) -> Vec<f64> {
         let n = self.dim();
         (ys.chunks_exact(n).zip(thetas))
@@ -579,8 +579,9 @@ where
         let base = self.base();
         let kth_before = kth_best(which, &self.locked, self.k);
         let thetas: Vec<f64> = candidates.iter().map(|&i| pairs.theta[i]).collect();
-        let residuals =
-            (self.op).relative_residuals(self.basis.columns(base, candidates.len()), &thetas);
+        let residuals = self
+            .op
+            .relative_residuals(self.basis.columns(base, candidates.len()), &thetas);
         let mut newly_locked = Vec::new();
         for (c, (&i, residual)) in candidates.iter().zip(residuals).enumerate() {
             let theta = pairs.theta[i];

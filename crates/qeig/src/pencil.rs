@@ -128,15 +128,14 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         Ok(self)
     }
 
-    /// `((K − Σ w u uᴴ) x, S x)`.
-    fn products(&self, x: &[T]) -> (Vec<T>, Vec<T>) {
-        let (mut kx, mut sx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
-        self.k.mul_vec(x, &mut kx).expect("length n");
-        self.s.mul_vec(x, &mut sx).expect("length n");
+    /// `(K − Σ w u uᴴ) x`.
+    fn k_mul(&self, x: &[T]) -> Vec<T> {
+        let mut y = vec![T::zero(); x.len()];
+        self.k.mul_vec(x, &mut y).expect("length n");
         for (u, w) in &self.low_rank {
-            vector::axpy(&mut kx, u, vector::inner(u, x) * T::from_real(-w));
+            vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
         }
-        (kx, sx)
+        y
     }
 
     /// Dimension `n`.
@@ -227,7 +226,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             }
         }
         let mut pairs = fold(
-            |x| self.products(x),
+            |x| self.k_mul(x),
+            self.s,
             &values,
             vectors,
             options.which,
@@ -266,8 +266,8 @@ struct Folded<T> {
     residual: f64,
 }
 
-/// A vector `x` with `K x` and `S x`, carried through the linear combinations of the fold so
-/// that the residuals need no further products.
+/// A basis vector `x` of a cluster with `K x` and `S x`, carried through the linear
+/// combinations of the Rayleigh–Ritz step so that the residuals need no further products.
 struct WithProducts<T> {
     x: Vec<T>,
     kx: Vec<T>,
@@ -296,12 +296,6 @@ impl<T: Scalar<Real = f64>> WithProducts<T> {
         vector::axpy(&mut self.sx, &other.sx, c);
     }
 
-    fn scale(&mut self, factor: f64) {
-        vector::scale(&mut self.x, factor);
-        vector::scale(&mut self.kx, factor);
-        vector::scale(&mut self.sx, factor);
-    }
-
     /// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
     fn relative_residual(mut self, mu: f64) -> Folded<T> {
         let s_norm = vector::norm(&self.sx);
@@ -323,9 +317,10 @@ fn unit<T: Scalar<Real = f64>>(u: usize) -> T {
 }
 
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
-/// returns them sorted by wantedness, with their residuals. `products(x)` gives `(K x, S x)`.
+/// returns them sorted by wantedness, with their residuals. `k(x)` is `K x`.
 fn fold<T: Scalar<Real = f64>>(
-    products: impl Fn(&[T]) -> (Vec<T>, Vec<T>),
+    k: impl Fn(&[T]) -> Vec<T>,
+    s: &SparseMatrix<T>,
     values: &[f64],
     vectors: Vec<Vec<T>>,
     which: Which,
@@ -347,14 +342,16 @@ fn fold<T: Scalar<Real = f64>>(
             }
             end += 1;
         }
+        // The vectors and their S-images, projected as vectors are accepted.
         let members = (order[start..end].iter())
             .map(|&i| {
                 let x = vectors[i].take().expect("each vector is used once");
-                let (kx, sx) = products(&x);
-                WithProducts { x, kx, sx }
+                let mut sx = vec![T::zero(); x.len()];
+                s.mul_vec(&x, &mut sx).expect("length n");
+                (x, sx)
             })
             .collect();
-        pairs.extend(rayleigh_ritz(members)?);
+        pairs.extend(rayleigh_ritz(members, &k)?);
         start = end;
     }
     pairs.sort_by(|a, b| which.score(b.value).total_cmp(&which.score(a.value)));
@@ -363,14 +360,16 @@ fn fold<T: Scalar<Real = f64>>(
 
 /// One cluster: an `S`-orthonormal basis by pivoted Gram–Schmidt (coefficients on the right;
 /// members whose remaining `S`-norm is below 0.1 are dropped as dependent), then the
-/// eigenpairs of `Qᴴ K Q`.
+/// eigenpairs of `Qᴴ K Q` (`K q` is computed once per basis vector, not for the dropped
+/// members: an embedded backend's cluster holds several copies of one quaternionic vector).
 fn rayleigh_ritz<T: Scalar<Real = f64>>(
-    mut members: Vec<WithProducts<T>>,
+    mut members: Vec<(Vec<T>, Vec<T>)>,
+    k: impl Fn(&[T]) -> Vec<T>,
 ) -> Result<Vec<Folded<T>>, EigError<T>> {
     let mut basis: Vec<WithProducts<T>> = Vec::new();
     while !members.is_empty() {
         let norms: Vec<f64> = (members.iter())
-            .map(|m| vector::inner(&m.x, &m.sx).re().max(0.0).sqrt())
+            .map(|(x, sx)| vector::inner(x, sx).re().max(0.0).sqrt())
             .collect();
         let (best, &norm) = (norms.iter().enumerate())
             .max_by(|a, b| a.1.total_cmp(b.1))
@@ -378,13 +377,20 @@ fn rayleigh_ritz<T: Scalar<Real = f64>>(
         if norm < 0.1 {
             break;
         }
-        let mut q = members.swap_remove(best);
-        q.scale(1.0 / norm);
-        for m in &mut members {
-            let c = vector::inner(&q.sx, &m.x);
-            m.axpy(&q, -c);
+        let (mut q, mut sq) = members.swap_remove(best);
+        vector::scale(&mut q, 1.0 / norm);
+        vector::scale(&mut sq, 1.0 / norm);
+        for (x, sx) in &mut members {
+            let c = vector::inner(&sq, x);
+            vector::axpy(x, &q, -c);
+            vector::axpy(sx, &sq, -c);
         }
-        basis.push(q);
+        let kq = k(&q);
+        basis.push(WithProducts {
+            x: q,
+            kx: kq,
+            sx: sq,
+        });
     }
     let m = basis.len();
     let h = DenseMatrix::from_fn(m, m, |a, b| vector::inner(&basis[a].x, &basis[b].kx));

@@ -580,10 +580,12 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         }
     }
 
-    fn check_rhs(&self, len: usize) -> Result<(), CholeskyError> {
-        if len != self.symbolic.n {
+    /// Checks that `len` entries are `ncols` columns of length `n`.
+    fn check_rhs(&self, len: usize, ncols: usize) -> Result<(), CholeskyError> {
+        let expected = self.symbolic.n.saturating_mul(ncols);
+        if len != expected {
             return Err(CholeskyError::RhsDimension {
-                expected: self.symbolic.n,
+                expected,
                 found: len,
             });
         }
@@ -638,23 +640,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         ncols: usize,
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
-        self.check_many(x.len(), ncols)?;
+        self.check_rhs(x.len(), ncols)?;
         self.forward(x, ncols, work, self.two_threads());
-        Ok(())
-    }
-
-    /// Checks that `len` entries are `ncols` columns of length `n`.
-    fn check_many(&self, len: usize, ncols: usize) -> Result<(), CholeskyError> {
-        if ncols == 1 {
-            return self.check_rhs(len);
-        }
-        let expected = self.symbolic.n * ncols;
-        if len != expected {
-            return Err(CholeskyError::RhsDimension {
-                expected,
-                found: len,
-            });
-        }
         Ok(())
     }
 
@@ -794,7 +781,7 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         ncols: usize,
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
-        self.check_many(x.len(), ncols)?;
+        self.check_rhs(x.len(), ncols)?;
         self.backward(x, ncols, work, self.two_threads());
         Ok(())
     }
