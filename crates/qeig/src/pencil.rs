@@ -18,7 +18,7 @@
 use std::time::Instant;
 
 use qscalar::Scalar;
-use qsparse::{DenseMatrix, SparseMatrix, vector};
+use qsparse::{DenseMatrix, SparseMatrix, threads, vector};
 
 use crate::backend::VECTORS_PER_PASS;
 use crate::basis::Basis;
@@ -319,7 +319,7 @@ fn unit<T: Scalar<Real = f64>>(u: usize) -> T {
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
 /// returns them sorted by wantedness, with their residuals. `k(x)` is `K x`.
 fn fold<T: Scalar<Real = f64>>(
-    k: impl Fn(&[T]) -> Vec<T>,
+    k: impl Fn(&[T]) -> Vec<T> + Sync,
     s: &SparseMatrix<T>,
     values: &[f64],
     vectors: Vec<Vec<T>>,
@@ -331,7 +331,7 @@ fn fold<T: Scalar<Real = f64>>(
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let mut vectors: Vec<Option<Vec<T>>> = vectors.into_iter().map(Some).collect();
-    let mut pairs = Vec::new();
+    let mut clusters: Vec<Vec<Vec<T>>> = Vec::new();
     let mut start = 0;
     while start < order.len() {
         let mut end = start + 1;
@@ -342,17 +342,29 @@ fn fold<T: Scalar<Real = f64>>(
             }
             end += 1;
         }
+        clusters.push(
+            order[start..end]
+                .iter()
+                .filter_map(|&i| vectors[i].take())
+                .collect(),
+        );
+        start = end;
+    }
+    // Cluster by cluster, on two threads: each costs a few sparse products per member.
+    let folded = threads::map_on_two_threads(clusters, |members| {
         // The vectors and their S-images, projected as vectors are accepted.
-        let members = (order[start..end].iter())
-            .map(|&i| {
-                let x = vectors[i].take().expect("each vector is used once");
+        let members = (members.into_iter())
+            .map(|x| {
                 let mut sx = vec![T::zero(); x.len()];
                 s.mul_vec(&x, &mut sx).expect("length n");
                 (x, sx)
             })
             .collect();
-        pairs.extend(rayleigh_ritz(members, &k)?);
-        start = end;
+        rayleigh_ritz(members, &k)
+    });
+    let mut pairs = Vec::new();
+    for cluster in folded {
+        pairs.extend(cluster?);
     }
     pairs.sort_by(|a, b| which.score(b.value).total_cmp(&which.score(a.value)));
     Ok(pairs)

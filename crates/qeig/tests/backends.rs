@@ -27,16 +27,27 @@ fn check<T: Scalar<Real = f64>, B: Backend<T>>(
     k: usize,
     which: Which,
 ) {
-    let truth = dense_truth(k_mat, s_mat);
-    let mut order: Vec<usize> = (0..truth.values.len()).collect();
-    order.sort_by(|&a, &b| score(which, truth.values[b]).total_cmp(&score(which, truth.values[a])));
     let options = LanczosOptions {
         max_dim: (2 * k + 8).max(20),
         ..LanczosOptions::new(k, which)
     };
+    check_with(backend, k_mat, s_mat, &options);
+}
+
+/// Checks `backend`'s pairs for `options` against the dense truth.
+fn check_with<T: Scalar<Real = f64>, B: Backend<T>>(
+    backend: &B,
+    k_mat: &SparseMatrix<T>,
+    s_mat: &SparseMatrix<T>,
+    options: &LanczosOptions,
+) {
+    let (k, which) = (options.k, options.which);
+    let truth = dense_truth(k_mat, s_mat);
+    let mut order: Vec<usize> = (0..truth.values.len()).collect();
+    order.sort_by(|&a, &b| score(which, truth.values[b]).total_cmp(&score(which, truth.values[a])));
     let eig = Pencil::new(k_mat, s_mat)
         .unwrap()
-        .solve(backend, &options)
+        .solve(backend, options)
         .unwrap_or_else(|e| panic!("{}: {e}", backend.name()));
     assert_eq!(eig.values.len(), k);
     let scale = truth.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -118,6 +129,17 @@ fn more_pairs_than_one_pass() {
     let k = 2 * VECTORS_PER_PASS + 3;
     check(&Native, &k_mat, &s_mat, k, Which::LargestMagnitude);
     check(&RealBlock, &k_mat, &s_mat, k, Which::SmallestAlgebraic);
+}
+
+/// Many pairs with the automatic basis, whose active part (the pairs still needed and 64
+/// more) is then smaller than twice the pairs: every pair is still the dense one.
+#[test]
+fn many_pairs_with_the_automatic_basis() {
+    let mut rng = Rng::new(9);
+    let (k_mat, s_mat) = random_pencil::<Quat<f64>>(240, 3, &mut rng);
+    for which in [Which::LargestMagnitude, Which::SmallestAlgebraic] {
+        check_with(&Native, &k_mat, &s_mat, &LanczosOptions::new(90, which));
+    }
 }
 
 /// The residuals of several pairs at once are exactly those of each pair alone (the

@@ -4,7 +4,12 @@
 use num_traits::{Float, Zero};
 use qscalar::Scalar;
 
-use crate::{SparseError, SparseMatrix, vector};
+use crate::{SparseError, SparseMatrix, threads, vector};
+
+/// Stored reals from which [`SparseMatrix::mul_vec`] runs on two threads: below it (about
+/// 130,000 quaternion entries, a mesh of 20,000 vertices) starting the helper costs as much
+/// as it saves (measured: 0.22 → 0.28 ms at 70,000 entries, 1.05 → 0.81 ms at 290,000).
+const PARALLEL_PRODUCT_REALS: usize = 1 << 19;
 
 impl<T: Scalar> SparseMatrix<T> {
     fn check_dim(
@@ -24,15 +29,47 @@ impl<T: Scalar> SparseMatrix<T> {
     }
 
     /// `y = A x` (entries multiply from the left: `yᵢ = Σⱼ Aᵢⱼ xⱼ`).
+    ///
+    /// Column by column, each column scattered into `y` times `xⱼ` (one right multiplier per
+    /// column). Large products run on two threads, each owning half of the rows of `y`: a
+    /// thread scatters the part of every column that falls in its rows (the rows of a column
+    /// are sorted, so that part is one end of the column), so no output is shared and the
+    /// result is bit for bit the one-thread product.
     pub fn mul_vec(&self, x: &[T], y: &mut [T]) -> Result<(), SparseError> {
         self.check_dim(x.len(), self.ncols, "x in A x")?;
         self.check_dim(y.len(), self.nrows, "y in A x")?;
-        y.fill(T::zero());
-        for (j, &xj) in x.iter().enumerate() {
-            let (rows, vals) = self.col(j);
-            vector::scatter_axpy(y, rows, vals, xj);
+        let two_threads =
+            self.nnz() * T::REAL_DIM >= PARALLEL_PRODUCT_REALS && threads::second_thread_allowed();
+        if two_threads {
+            let split = self.nrows / 2;
+            let (top, bottom) = y.split_at_mut(split);
+            std::thread::scope(|scope| {
+                scope.spawn(|| self.scatter_rows(x, bottom, split));
+                self.scatter_rows(x, top, 0);
+            });
+        } else {
+            self.scatter_rows(x, y, 0);
         }
         Ok(())
+    }
+
+    /// `y = (A x)[first..first + y.len()]`: the rows of the product from `first` on, which
+    /// are the first rows of the product or its last ones.
+    fn scatter_rows(&self, x: &[T], y: &mut [T], first: usize) {
+        y.fill(T::zero());
+        let end = first + y.len();
+        debug_assert!(first == 0 || end == self.nrows);
+        for (j, &xj) in x.iter().enumerate() {
+            let (rows, vals) = self.col(j);
+            // A column holds a handful of entries: counting them from the end that belongs to
+            // `y` costs less than the branches of a bisection.
+            let range = if end == self.nrows {
+                rows.len() - rows.iter().rev().take_while(|&&r| r >= first).count()..rows.len()
+            } else {
+                0..rows.iter().take_while(|&&r| r < end).count()
+            };
+            vector::scatter_axpy(y, first, &rows[range.clone()], &vals[range], xj);
+        }
     }
 
     /// `y = Aᴴ x`, i.e. `yⱼ = Σᵢ conj(Aᵢⱼ) xᵢ`.

@@ -48,3 +48,54 @@ pub fn second_thread_allowed() -> bool {
         && cores >= 2
         && rayon::current_thread_index().is_none()
 }
+
+/// `f` of every item, in order; the items are split in two halves between the calling thread
+/// and one helper when [`second_thread_allowed`] and there are at least two of them.
+///
+/// For independent work of similar size per item, such as the products and residuals of many
+/// eigenpairs after a solve (each a sparse product or two). Items may be references, mutable
+/// ones included. While the two halves run, the kernels inside `f` are kept on one thread
+/// each ([`on_one_thread`]): both cores are busy already.
+pub fn map_on_two_threads<T: Send, R: Send>(
+    mut items: Vec<T>,
+    f: impl Fn(T) -> R + Sync,
+) -> Vec<R> {
+    if items.len() < 2 || !second_thread_allowed() {
+        return items.into_iter().map(f).collect();
+    }
+    let second = items.split_off(items.len() / 2);
+    let f = &f;
+    std::thread::scope(|scope| {
+        let helper =
+            scope.spawn(move || on_one_thread(|| second.into_iter().map(f).collect::<Vec<R>>()));
+        let mut results: Vec<R> = on_one_thread(|| items.into_iter().map(f).collect());
+        // A panic in `f` on the helper is raised again here, as on the calling thread.
+        results.extend(
+            helper
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        );
+        results
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every item is mapped once, in order, on two threads and on one; mutable references
+    /// are written through.
+    #[test]
+    fn split_work_is_the_sequential_work() {
+        for count in [0usize, 1, 2, 3, 10, 101] {
+            let items: Vec<usize> = (0..count).collect();
+            let squares: Vec<usize> = items.iter().map(|i| i * i).collect();
+            assert_eq!(map_on_two_threads(items.clone(), |i| i * i), squares);
+            let one = on_one_thread(|| map_on_two_threads(items.clone(), |i| i * i));
+            assert_eq!(one, squares);
+            let mut doubled = items.clone();
+            map_on_two_threads(doubled.iter_mut().collect(), |i| *i *= 2);
+            assert_eq!(doubled, items.iter().map(|i| 2 * i).collect::<Vec<_>>());
+        }
+    }
+}

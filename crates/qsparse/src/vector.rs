@@ -65,17 +65,24 @@ pub fn axpy[T: Scalar](y: &mut [T], x: &[T], c: T) => axpy_kernel[T,]
 }
 
 dispatch_avx2_fma! {
-/// `y[rows[i]] ← y[rows[i]] + x[i] c`: the scattered `axpy` of a sparse column times `c`
-/// (panics if a row index is outside `y`, like slice indexing).
-pub(crate) fn scatter_axpy[T: Scalar](y: &mut [T], rows: &[usize], x: &[T], c: T)
+/// `y[rows[i] − first] ← y[rows[i] − first] + x[i] c`: the scattered `axpy` of a sparse
+/// column times `c` into the rows of `y`, which start at row `first` (panics if a row index
+/// is outside them, like slice indexing).
+pub(crate) fn scatter_axpy[T: Scalar](y: &mut [T], first: usize, rows: &[usize], x: &[T], c: T)
     => scatter_axpy_kernel[T,]
 }
 
 #[inline(always)]
-fn scatter_axpy_kernel<T: Scalar, const FUSED: bool>(y: &mut [T], rows: &[usize], x: &[T], c: T) {
+fn scatter_axpy_kernel<T: Scalar, const FUSED: bool>(
+    y: &mut [T],
+    first: usize,
+    rows: &[usize],
+    x: &[T],
+    c: T,
+) {
     let times_c = RightMultiplier::new(c);
     for (&row, &xi) in rows.iter().zip(x) {
-        times_c.mul_add_kernel::<FUSED>(&mut y[row], xi);
+        times_c.mul_add_kernel::<FUSED>(&mut y[row - first], xi);
     }
 }
 

@@ -60,13 +60,14 @@ mod kernel;
 mod pencil;
 mod solve;
 
+use std::any::Any;
 use std::borrow::Cow;
 use std::fmt;
 use std::str::FromStr;
 
 use qeig::{ProgressCallback, Statistics};
 use qscalar::{Quat, Scalar};
-use qsparse::{CholeskyError, SparseMatrix, vector};
+use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 use thiserror::Error;
 
 pub use kernel::KernelSummary;
@@ -1087,22 +1088,27 @@ fn finish<T: Scalar<Real = f64>>(
     });
     order.truncate(options.k);
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
-    let mut eigenvectors: Vec<Vec<T>> = order.iter().map(|&i| pairs.vectors[i].clone()).collect();
+    // Moved, not copied: at a million vertices each copy of k eigenvectors is gigabytes.
+    let mut slots: Vec<Option<Vec<T>>> = pairs.vectors.into_iter().map(Some).collect();
+    let mut eigenvectors: Vec<Vec<T>> = (order.iter()).filter_map(|&i| slots[i].take()).collect();
+    drop(slots);
     orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
     let norms = (
         scaled_norm(&operator.stiffness, masses),
         scaled_norm(&operator.coupling, masses),
     );
-    let measured: Vec<Residual> = (eigenvalues.iter().zip(&eigenvectors))
-        .map(|(&lambda, x)| Residual::of(operator, norms, masses, lambda, x))
-        .collect();
+    let each = eigenvalues.iter().zip(&eigenvectors).collect();
+    let measured: Vec<Residual> =
+        threads::map_on_two_threads(each, |(&lambda, x): (&f64, &Vec<T>)| {
+            Residual::of(operator, norms, masses, lambda, x)
+        });
     let converged: Vec<bool> = measured
         .iter()
         .map(|r| r.is_converged(options.tolerance))
         .collect();
     let residuals = measured.iter().map(|r| r.relative).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
-    let eigenvectors = eigenvectors.iter().map(|x| quaternions(x)).collect();
+    let eigenvectors = eigenvectors.into_iter().map(quaternions).collect();
     let spectrum = Spectrum {
         eigenvalues: retain(eigenvalues, &converged),
         eigenvectors: retain(eigenvectors, &converged),
@@ -1123,9 +1129,13 @@ fn finish<T: Scalar<Real = f64>>(
 }
 
 /// `x` as quaternions: the `REAL_DIM` real components of each entry as `(w, x, y, z)` in
-/// order, the others zero (a real vector has zero imaginary part).
-fn quaternions<T: Scalar<Real = f64>>(x: &[T]) -> Vec<Quat<f64>> {
-    T::as_reals(x)
+/// order, the others zero (a real vector has zero imaginary part). A quaternion vector is
+/// returned as it is, without a copy.
+fn quaternions<T: Scalar<Real = f64>>(mut x: Vec<T>) -> Vec<Quat<f64>> {
+    if let Some(q) = (&mut x as &mut dyn Any).downcast_mut::<Vec<Quat<f64>>>() {
+        return std::mem::take(q);
+    }
+    T::as_reals(&x)
         .chunks_exact(T::REAL_DIM)
         .map(|c| {
             let mut q = [0.0; 4];

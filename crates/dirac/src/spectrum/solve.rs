@@ -5,7 +5,7 @@ use qeig::{
     ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, RealBlock, Statistics, Which,
 };
 use qscalar::Scalar;
-use qsparse::{CholeskyError, SparseMatrix, vector};
+use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 
 use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction};
 use super::pencil::{Form, Matrices};
@@ -99,7 +99,9 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
         }
         Form::Literal { sigma } => literal(reduced, sigma, count, options, progress)?,
     };
-    for (x, lambda) in pairs.vectors.iter_mut().zip(&mut pairs.values) {
+    // Pair by pair, on two threads: each pair costs a few sparse products.
+    let each = pairs.vectors.iter_mut().zip(&mut pairs.values).collect();
+    threads::map_on_two_threads(each, |(x, lambda): (&mut Vec<T>, &mut f64)| {
         for mode in &kernel.constants {
             match (form, mode.coupling) {
                 (Form::Pinned, Coupling::Orthogonal) => {
@@ -109,15 +111,13 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
                 _ => remove_mass_mean(masses, &mode.vertices, x),
             }
         }
-    }
-    if form == Form::Pinned {
-        // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
-        // error is second order in the vector's, where `1/μ` is first order.
-        for (x, lambda) in pairs.vectors.iter().zip(&mut pairs.values) {
+        if form == Form::Pinned {
+            // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
+            // error is second order in the vector's, where `1/μ` is first order.
             let (px, qx) = products(matrices, x);
             *lambda = vector::inner(x, &px).re() / vector::inner(x, &qx).re();
         }
-    }
+    });
     Ok(pairs)
 }
 

@@ -285,3 +285,41 @@ proptest! {
         }
     }
 }
+
+/// A product large enough to run on two threads (each owning half of the rows of `y`) equals
+/// the one-thread product bit for bit, and the entrywise sum `Σⱼ Aᵢⱼ xⱼ` up to rounding; also
+/// for an odd number of rows and a rectangular matrix.
+#[test]
+fn two_thread_product_is_the_one_thread_product() {
+    let mut rng = qscalar::random::SplitMix64::new(17);
+    for (nrows, ncols) in [(20001, 20001), (19999, 20301)] {
+        let mut triplets = TripletMatrix::<Quat<f64>>::new(nrows, ncols);
+        let mut entries: Vec<(usize, usize, Quat<f64>)> = Vec::new();
+        for j in 0..ncols {
+            for _ in 0..8 {
+                let mut value = [Quat::default()];
+                rng.fill_symmetric(&mut value);
+                let row = (rng.next_u64() % nrows as u64) as usize;
+                triplets.push(row, j, value[0]).unwrap();
+                entries.push((row, j, value[0]));
+            }
+        }
+        let a = triplets.to_csc();
+        assert!(
+            a.nnz() * 4 >= 1 << 19,
+            "the product must take the two-thread path"
+        );
+        let mut x = vec![Quat::default(); ncols];
+        rng.fill_symmetric(&mut x);
+        let mut two = vec![Quat::default(); nrows];
+        a.mul_vec(&x, &mut two).unwrap();
+        let mut one = vec![Quat::default(); nrows];
+        qsparse::threads::on_one_thread(|| a.mul_vec(&x, &mut one)).unwrap();
+        assert_eq!(one, two);
+        let mut expected = vec![Quat::default(); nrows];
+        for &(row, col, value) in &entries {
+            expected[row] += value * x[col];
+        }
+        assert!(relative_distance(&two, &expected) <= TOL);
+    }
+}
