@@ -53,22 +53,25 @@ impl<T: Scalar> SparseMatrix<T> {
         Ok(())
     }
 
-    /// `y = (A x)[first..first + y.len()]`: the rows of the product from `first` on, which
-    /// are the first rows of the product or its last ones.
+    /// `y = (A x)[first..first + y.len()]`: the rows of the product from `first` on.
     fn scatter_rows(&self, x: &[T], y: &mut [T], first: usize) {
         y.fill(T::zero());
         let end = first + y.len();
-        debug_assert!(first == 0 || end == self.nrows);
         for (j, &xj) in x.iter().enumerate() {
             let (rows, vals) = self.col(j);
-            // A column holds a handful of entries: counting them from the end that belongs to
-            // `y` costs less than the branches of a bisection.
-            let range = if end == self.nrows {
-                rows.len() - rows.iter().rev().take_while(|&&r| r >= first).count()..rows.len()
+            // A column holds a handful of entries: counting those outside `y` from either end
+            // costs less than the branches of a bisection, and nothing when `y` reaches that end.
+            let start = if first == 0 {
+                0
             } else {
-                0..rows.iter().take_while(|&&r| r < end).count()
+                rows.len() - rows.iter().rev().take_while(|&&r| r >= first).count()
             };
-            vector::scatter_axpy(y, first, &rows[range.clone()], &vals[range], xj);
+            let stop = if end == self.nrows {
+                rows.len()
+            } else {
+                rows.iter().take_while(|&&r| r < end).count()
+            };
+            vector::scatter_axpy(y, first, &rows[start..stop], &vals[start..stop], xj);
         }
     }
 
