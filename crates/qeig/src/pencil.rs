@@ -345,7 +345,7 @@ fn fold<T: Scalar<Real = f64>>(
         clusters.push(
             order[start..end]
                 .iter()
-                .filter_map(|&i| vectors[i].take())
+                .map(|&i| vectors[i].take().expect("each vector is used once"))
                 .collect(),
         );
         start = end;

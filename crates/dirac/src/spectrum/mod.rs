@@ -1090,7 +1090,9 @@ fn finish<T: Scalar<Real = f64>>(
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
     // Moved, not copied: at a million vertices each copy of k eigenvectors is gigabytes.
     let mut slots: Vec<Option<Vec<T>>> = pairs.vectors.into_iter().map(Some).collect();
-    let mut eigenvectors: Vec<Vec<T>> = (order.iter()).filter_map(|&i| slots[i].take()).collect();
+    let mut eigenvectors: Vec<Vec<T>> = (order.iter())
+        .map(|&i| slots[i].take().expect("the order lists each pair once"))
+        .collect();
     drop(slots);
     orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
     let norms = (
