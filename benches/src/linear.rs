@@ -47,12 +47,23 @@ fn ratio(numerator: f64, denominator: f64) -> f64 {
     numerator / denominator
 }
 
-/// Times `y = A x` natively and on both embeddings.
+/// Times `y = A x` natively (scattered by columns, `mul_vec`, and gathered from the columns
+/// of the Hermitian `A` as `Aᴴ x`, `adjoint_mul_vec`, on one thread and on two) and on both
+/// embeddings.
 pub fn compare_spmv(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
     let n = a.nrows();
     let x = test_vector(n);
     let mut y = vec![Quat::default(); n];
     let native = time_median(repeats, || a.mul_vec(&x, &mut y).expect("square matrix"));
+    let scattered_one_thread = time_median(repeats, || {
+        qsparse::threads::on_one_thread(|| a.mul_vec(&x, &mut y)).expect("square matrix")
+    });
+    let gathered = time_median(repeats, || {
+        a.adjoint_mul_vec(&x, &mut y).expect("square matrix")
+    });
+    let gathered_one_thread = time_median(repeats, || {
+        qsparse::threads::on_one_thread(|| a.adjoint_mul_vec(&x, &mut y)).expect("square matrix")
+    });
 
     let real = a.to_real_block();
     let x_real = Col::<f64>::from_fn(4 * n, |i| Quat::as_reals(&x)[i]);
@@ -74,8 +85,16 @@ pub fn compare_spmv(a: &SparseMatrix<Quat<f64>>, repeats: usize) -> Value {
         "case": "spmv",
         "quaternion_unknowns": n,
         "nnz": { "native": a.nnz(), "real_block": real.compute_nnz(), "complex_adjoint": complex.compute_nnz() },
-        "median_seconds": { "native": native, "real_block": real_block, "complex_adjoint": complex_adjoint },
+        "median_seconds": {
+            "native": native,
+            "native_one_thread": scattered_one_thread,
+            "native_hermitian_gathered": gathered,
+            "native_hermitian_gathered_one_thread": gathered_one_thread,
+            "real_block": real_block,
+            "complex_adjoint": complex_adjoint,
+        },
         "ratios": {
+            "scattered_over_gathered": ratio(native, gathered),
             "real_block_over_native": ratio(real_block, native),
             "complex_adjoint_over_native": ratio(complex_adjoint, native),
         },

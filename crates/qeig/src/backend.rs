@@ -276,8 +276,10 @@ impl<T: Scalar<Real = f64>> Factor<T> for NativeFactor<T> {
 }
 
 impl<T: Scalar<Real = f64>> MatVec<T> for SparseMatrix<T> {
+    /// `y = M x` as `Mᴴ x` (the pencil's matrices are Hermitian), gathered column by column:
+    /// 1.4× faster than the scattered `mul_vec` on a 41k-vertex mesh (docs/PERFORMANCE.md).
     fn mul(&self, x: &[T], y: &mut [T]) {
-        self.mul_vec(x, y)
+        self.adjoint_mul_vec(x, y)
             .expect("vector lengths equal the matrix dimension");
     }
 }

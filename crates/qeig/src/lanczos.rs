@@ -182,8 +182,24 @@ fn active_for(pairs: usize) -> usize {
     pairs + pairs.clamp(32, 64)
 }
 
-/// Steps between early convergence checks.
+/// Steps a round makes before its first check point, and the most steps between two.
+///
+/// A round may end only after this many steps: a check point certifies the Ritz values the
+/// Krylov space holds, not the absence of others, and a start vector's component along a copy
+/// of a multiple eigenvalue that earlier rounds missed needs a few steps to grow (checking
+/// from the first step of a round returned six of the seven copies of `l = 3` on a sphere,
+/// docs/PERFORMANCE.md).
 const CHECK_INTERVAL: usize = 10;
+
+/// Steps between check points for a projected matrix of dimension `size`: every step while
+/// its eigensolve is cheap against a step (`size < 256`: about 1 ms against 15–30 ms on a
+/// 43k-vertex mesh), then fewer, as the eigensolve grows as `size³` (5 ms at 264, 32 ms at
+/// 564), up to [`CHECK_INTERVAL`]. A check after every step ends a round as soon as it may
+/// end, where a fixed interval of 10 ran up to 9 steps past it.
+fn check_interval(size: usize) -> usize {
+    let blocks = size / 128;
+    (blocks * blocks).clamp(1, CHECK_INTERVAL)
+}
 
 /// Rounding level of an estimated residual relative to `‖A‖`: a Ritz pair with
 /// `|βₘ yₘ| ≤ ROUNDING ‖A‖` is an eigenpair of the computed operator up to the rounding errors
@@ -289,6 +305,10 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     kept: usize,
     /// Number of active columns expanded so far (the next one to expand).
     expanded: usize,
+    /// Lanczos steps of the current round.
+    round_steps: usize,
+    /// Lanczos steps since the last check point or restart.
+    since_check: usize,
 }
 
 impl<'a, 'p, V, O> Lanczos<'a, 'p, V, O>
@@ -336,6 +356,8 @@ where
             active: 0,
             kept: 0,
             expanded: 0,
+            round_steps: 0,
+            since_check: 0,
         })
     }
 
@@ -352,6 +374,17 @@ where
             self.max_active
         };
         wanted.min(self.max_active).min(self.n - base)
+    }
+
+    /// Ritz vectors a thick restart keeps for an active basis of dimension `active`: the pairs
+    /// still needed and half of the spare room, at most `active − 1` (room for a step).
+    ///
+    /// Counted for the basis the sequence continues in, after this restart's locking: counted
+    /// before it, the first restart of a run (k = 60: 60 needed in 120, keep 90) kept 58
+    /// vectors in an active basis of 59, which then restarted after a single step.
+    fn keep_count(&self, active: usize) -> usize {
+        let needed = self.k.saturating_sub(self.locked.len()).max(1);
+        (needed + (active - needed.min(active)) / 2).min(active.saturating_sub(1))
     }
 
     /// First column of the active basis.
@@ -375,6 +408,8 @@ where
         self.active = self.active_dimension(base);
         self.kept = 0;
         self.expanded = 0;
+        self.round_steps = 0;
+        self.since_check = 0;
         self.new_in_round = 0;
         self.h.fill(0.0);
         started
@@ -398,11 +433,14 @@ where
             if !appended {
                 return Ok(Expansion::Invariant);
             }
-            let since_restart = self.expanded - self.kept;
-            if since_restart.is_multiple_of(CHECK_INTERVAL)
+            self.round_steps += 1;
+            self.since_check += 1;
+            if self.round_steps >= CHECK_INTERVAL
+                && self.since_check >= check_interval(self.expanded)
                 && self.expanded < self.active
                 && self.locked.len() + self.expanded >= self.k
             {
+                self.since_check = 0;
                 return Ok(Expansion::CheckPoint);
             }
         }
@@ -527,8 +565,7 @@ where
         let keep_max = if invariant {
             0
         } else {
-            let (needed, m) = (self.k.saturating_sub(self.locked.len()).max(1), self.active);
-            (needed + (m - needed.min(m)) / 2).min(m - 1)
+            self.keep_count(self.active)
         }
         .min(size.saturating_sub(candidates.len()));
         let mut selection = candidates.to_vec();
@@ -543,7 +580,7 @@ where
         let new_active = self.active_dimension(self.base());
         let kept: Vec<usize> = (0..selection.len())
             .filter(|c| !newly_locked.contains(c))
-            .take(keep_max.min(new_active.saturating_sub(1)))
+            .take(keep_max.min(self.keep_count(new_active)))
             .collect();
         self.relayout(
             base,
@@ -573,6 +610,7 @@ where
         }
         self.kept = p;
         self.expanded = p;
+        self.since_check = 0;
         self.active = new_active;
         Ok(AfterRestart::Continue)
     }

@@ -131,7 +131,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     /// `(K − Σ w u uᴴ) x`.
     fn k_mul(&self, x: &[T]) -> Vec<T> {
         let mut y = vec![T::zero(); x.len()];
-        self.k.mul_vec(x, &mut y).expect("length n");
+        // `K x` as `Kᴴ x`: the faster product of a Hermitian matrix.
+        self.k.adjoint_mul_vec(x, &mut y).expect("length n");
         for (u, w) in &self.low_rank {
             vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
         }
@@ -356,7 +357,7 @@ fn fold<T: Scalar<Real = f64>>(
         let members = (members.into_iter())
             .map(|x| {
                 let mut sx = vec![T::zero(); x.len()];
-                s.mul_vec(&x, &mut sx).expect("length n");
+                s.adjoint_mul_vec(&x, &mut sx).expect("length n");
                 (x, sx)
             })
             .collect();

@@ -177,6 +177,13 @@ fn unit_products<T: Scalar>(c: T) -> [[T::Real; 4]; 4] {
     columns
 }
 
+/// The scalar with the components `q` (the first `REAL_DIM` of them).
+fn from_components<T: Scalar>(q: [T::Real; 4]) -> T {
+    let mut result = [T::zero()];
+    T::as_reals_mut(&mut result).copy_from_slice(&q[..T::REAL_DIM]);
+    result[0]
+}
+
 /// `Σ_κλ S_κλ conj(e_κ) e_λ`: the inner product `⟨a, g⟩` from the real outer products
 /// `S_κλ = Σᵣ aᵣ,κ gᵣ,λ` of the components (`κ, λ < REAL_DIM`).
 fn combine_outer_products<T: Scalar>(s: &[[T::Real; 4]; 4]) -> T {
@@ -231,10 +238,9 @@ pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
     #[cfg(target_arch = "x86_64")]
     if quaternion_kernels::<T>() {
         // SAFETY: as in `axpy_two`.
-        let (sa, sb) = unsafe {
-            quaternion::outer_products_two(T::as_reals(a), T::as_reals(b), T::as_reals(g))
-        };
-        return (combine_outer_products(&sa), combine_outer_products(&sb));
+        let (qa, qb) =
+            unsafe { quaternion::inner_two(T::as_reals(a), T::as_reals(b), T::as_reals(g)) };
+        return (from_components(qa), from_components(qb));
     }
     (inner(a, g), inner(b, g))
 }
@@ -278,6 +284,27 @@ pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: 
         }
     };
     combine_outer_products(&s)
+}
+
+/// `Σₚ conj(aₚ) x[rows[p]]`: the inner product of the sparse vector with entries `a` at
+/// `rows` with the dense `x` (one row of `Aᴴ x` from a column of `A`).
+///
+/// Quaternions (with AVX2 and FMA) accumulate the real outer products in registers, two
+/// entries at a time on independent accumulators, and combine them there; other scalars sum
+/// their products directly.
+///
+/// # Panics
+/// If `a` and `rows` differ in length or a row is outside `x`.
+pub fn gather_inner<T: Scalar<Real = f64>>(a: &[T], rows: &[usize], x: &[T]) -> T {
+    assert_eq!(a.len(), rows.len(), "gather_inner: lengths differ");
+    #[cfg(target_arch = "x86_64")]
+    if quaternion_kernels::<T>() {
+        // SAFETY: AVX2 and FMA are available; `T` has four `f64` components, so `a` holds
+        // four numbers per row of `rows` and `x` four per entry (the kernel checks the rows).
+        let q = unsafe { quaternion::gathered_inner(T::as_reals(a), rows, T::as_reals(x)) };
+        return from_components(q);
+    }
+    a.iter().zip(rows).map(|(&v, &r)| v.conj() * x[r]).sum()
 }
 
 /// `⟨x, y⟩` for long vectors, such as the Gram–Schmidt passes over a Krylov basis: the real

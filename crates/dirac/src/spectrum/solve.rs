@@ -121,14 +121,15 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
     Ok(pairs)
 }
 
-/// `(P x, Q x)`.
+/// `(P x, Q x)`, computed as `(Pᴴ x, Qᴴ x)`: both are Hermitian, and the adjoint product is
+/// the faster one.
 pub(super) fn products<T: Scalar<Real = f64>>(m: &Matrices<T>, x: &[T]) -> (Vec<T>, Vec<T>) {
     let (mut px, mut qx) = (vec![T::zero(); x.len()], vec![T::zero(); x.len()]);
     m.stiffness
-        .mul_vec(x, &mut px)
+        .adjoint_mul_vec(x, &mut px)
         .expect("square operator of the vector's size");
     m.coupling
-        .mul_vec(x, &mut qx)
+        .adjoint_mul_vec(x, &mut qx)
         .expect("square operator of the vector's size");
     (px, qx)
 }

@@ -16,7 +16,8 @@
 
 use core::arch::x86_64::{
     __m256d, _MM_HINT_T0, _mm_prefetch, _mm256_add_pd, _mm256_broadcast_sd, _mm256_fmadd_pd,
-    _mm256_loadu_pd, _mm256_setzero_pd, _mm256_storeu_pd,
+    _mm256_loadu_pd, _mm256_permute_pd, _mm256_permute4x64_pd, _mm256_setr_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd,
 };
 
 /// Outer-product accumulators `S[κ][λ]`.
@@ -103,12 +104,14 @@ pub(super) unsafe fn multiply_add_two(g: &mut [f64], a: &[f64], b: &[f64], mx: &
     }
 }
 
-/// The outer products of `a` with `g` and of `b` with `g`, reading `g` once.
+/// `(⟨a, g⟩, ⟨b, g⟩)` as four `f64` each, reading `g` once: the outer products of `a` and of
+/// `b` with `g`, combined in registers (on the short columns of a triangular solve the
+/// combination is a large part of the work).
 ///
 /// # Safety
 /// See the module documentation.
 #[target_feature(enable = "avx2,fma")]
-pub(super) unsafe fn outer_products_two(a: &[f64], b: &[f64], g: &[f64]) -> (Outer, Outer) {
+pub(super) unsafe fn inner_two(a: &[f64], b: &[f64], g: &[f64]) -> ([f64; 4], [f64; 4]) {
     let mut sa = [_mm256_setzero_pd(); 4];
     let mut sb = [_mm256_setzero_pd(); 4];
     for ((gr, ar), br) in g
@@ -125,7 +128,66 @@ pub(super) unsafe fn outer_products_two(a: &[f64], b: &[f64], g: &[f64]) -> (Out
             accumulate_outer(&mut sb, br, gv);
         }
     }
-    (store_outer(sa), store_outer(sb))
+    (store_combined(sa), store_combined(sb))
+}
+
+/// `Σ_κ conj(e_κ) S_κ`, the inner product from its outer products (as
+/// [`super::combine_outer_products`], in registers): `conj(e₁) s = −i s = (s₁, −s₀, s₃, −s₂)`,
+/// `−j s = (s₂, −s₃, −s₀, s₁)`, `−k s = (s₃, s₂, −s₁, −s₀)`.
+#[inline(always)]
+fn combine_in_registers(s: [__m256d; 4]) -> __m256d {
+    // SAFETY: only called from functions compiled with AVX2 and FMA.
+    unsafe {
+        let minus_i = _mm256_permute_pd::<0b0101>(s[1]);
+        let minus_j = _mm256_permute4x64_pd::<0b01_00_11_10>(s[2]);
+        let minus_k = _mm256_permute4x64_pd::<0b00_01_10_11>(s[3]);
+        let mut q = _mm256_fmadd_pd(minus_i, _mm256_setr_pd(1.0, -1.0, 1.0, -1.0), s[0]);
+        q = _mm256_fmadd_pd(minus_j, _mm256_setr_pd(1.0, -1.0, -1.0, 1.0), q);
+        _mm256_fmadd_pd(minus_k, _mm256_setr_pd(1.0, 1.0, -1.0, -1.0), q)
+    }
+}
+
+/// `Σₚ conj(aₚ) x[rows[p]]` as four `f64`: the outer products `S_κλ = Σₚ aₚ,κ x[rows[p]],λ`,
+/// even and odd entries on separate accumulators (two chains of multiply-adds at once),
+/// combined in registers.
+///
+/// # Safety
+/// AVX2 and FMA; `a` holds four values per entry of `rows`. Rows outside `x` panic.
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn gathered_inner(a: &[f64], rows: &[usize], x: &[f64]) -> [f64; 4] {
+    let mut even = [_mm256_setzero_pd(); 4];
+    let mut odd = [_mm256_setzero_pd(); 4];
+    let load = |r: usize| {
+        let entry = &x[4 * r..4 * r + 4];
+        // SAFETY: `entry` holds four `f64`.
+        unsafe { _mm256_loadu_pd(entry.as_ptr()) }
+    };
+    for (ar, r) in a.chunks_exact(8).zip(rows.chunks_exact(2)) {
+        let (first, second) = (load(r[0]), load(r[1]));
+        // SAFETY: `ar` holds two quaternions.
+        unsafe {
+            accumulate_outer(&mut even, &ar[..4], first);
+            accumulate_outer(&mut odd, &ar[4..], second);
+        }
+    }
+    if rows.len() % 2 == 1 {
+        let last = rows.len() - 1;
+        // SAFETY: the last entry's four values.
+        unsafe { accumulate_outer(&mut even, &a[4 * last..4 * last + 4], load(rows[last])) };
+    }
+    for (e, o) in even.iter_mut().zip(odd) {
+        *e = _mm256_add_pd(*e, o);
+    }
+    store_combined(even)
+}
+
+/// The inner product `Σ_κ conj(e_κ) S_κ` of the outer products `s`, as four `f64`.
+#[inline(always)]
+fn store_combined(s: [__m256d; 4]) -> [f64; 4] {
+    let mut q = [0.0; 4];
+    // SAFETY: `q` holds four `f64`.
+    unsafe { _mm256_storeu_pd(q.as_mut_ptr(), combine_in_registers(s)) };
+    q
 }
 
 /// `wᵣ ← wᵣ + vᵣ c` (with `mc[κ] = e_κ c`), then the outer products of `next` with the new

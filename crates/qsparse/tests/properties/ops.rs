@@ -288,7 +288,8 @@ proptest! {
 
 /// A product large enough to run on two threads (each owning half of the rows of `y`) equals
 /// the one-thread product bit for bit, and the entrywise sum `Σⱼ Aᵢⱼ xⱼ` up to rounding; also
-/// for an odd number of rows and a rectangular matrix.
+/// for an odd number of rows and a rectangular matrix. The same for `Aᴴ z` (each thread owning
+/// the entries of half of the stored values) against `Σᵢ conj(Aᵢⱼ) zᵢ`.
 #[test]
 fn two_thread_product_is_the_one_thread_product() {
     let mut rng = qscalar::random::SplitMix64::new(17);
@@ -321,5 +322,32 @@ fn two_thread_product_is_the_one_thread_product() {
             expected[row] += value * x[col];
         }
         assert!(relative_distance(&two, &expected) <= TOL);
+
+        let mut z = vec![Quat::default(); nrows];
+        rng.fill_symmetric(&mut z);
+        let mut two = vec![Quat::default(); ncols];
+        a.adjoint_mul_vec(&z, &mut two).unwrap();
+        let mut one = vec![Quat::default(); ncols];
+        qsparse::threads::on_one_thread(|| a.adjoint_mul_vec(&z, &mut one)).unwrap();
+        assert_eq!(one, two);
+        let mut expected = vec![Quat::default(); ncols];
+        for &(row, col, value) in &entries {
+            expected[col] += value.conj() * z[row];
+        }
+        assert!(relative_distance(&two, &expected) <= TOL);
+    }
+}
+
+proptest! {
+    /// For a Hermitian matrix the gathered `Aᴴ x` is the scattered `A x` up to rounding.
+    #[test]
+    fn hermitian_adjoint_product_is_the_product(
+        (a, x) in hpd_matrix::<Quat<f64>>(1..40, 0.3)
+            .prop_flat_map(|a| { let n = a.ncols(); (Just(a), vector::<Quat<f64>>(n)) })
+    ) {
+        let (mut ax, mut ahx) = (vec![Quat::default(); a.nrows()], vec![Quat::default(); a.nrows()]);
+        a.mul_vec(&x, &mut ax).unwrap();
+        a.adjoint_mul_vec(&x, &mut ahx).unwrap();
+        assert_close(&ahx, &ax, TOL)?;
     }
 }
