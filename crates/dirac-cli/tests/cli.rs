@@ -58,6 +58,7 @@ fn json_output_is_complete_and_agrees_with_the_library() {
         "normalize",
         "eigenvalues",
         "residuals",
+        "backward_errors",
         "statistics",
         "timings",
         "converged",
@@ -102,6 +103,12 @@ fn json_output_is_complete_and_agrees_with_the_library() {
     let eigenvalues = numbers(&report["eigenvalues"]);
     assert_eq!(eigenvalues.len(), k);
     assert_eq!(numbers(&report["residuals"]).len(), k);
+    // Every reported pair passed the convergence rule of docs/MATH.md with its two numbers.
+    let rule = numbers(&report["residuals"])
+        .into_iter()
+        .zip(numbers(&report["backward_errors"]))
+        .all(|(relative, backward)| relative <= 100.0 * 1e-10 || backward <= 1e3 * f64::EPSILON);
+    assert!(rule, "a reported pair fails the convergence rule: {report}");
     assert!(
         eigenvalues.windows(2).all(|w| w[0].abs() <= w[1].abs()),
         "not sorted by |λ|: {eigenvalues:?}"
@@ -153,6 +160,7 @@ fn family_reports_tau_and_human_output_has_a_table() {
         "42 vertices, 80 faces",
         "eigenvalue",
         "residual",
+        "backward error",
         "statistics",
         "timings",
     ] {

@@ -205,6 +205,10 @@ pub fn spectrum_dict<'py>(
         PyArray1::from_slice(py, &spectrum.eigenvalues),
     )?;
     dict.set_item("residuals", PyArray1::from_slice(py, &spectrum.residuals))?;
+    dict.set_item(
+        "backward_errors",
+        PyArray1::from_slice(py, &spectrum.backward_errors),
+    )?;
     let eigenvectors = with_eigenvectors
         .then(|| eigenvector_array(py, &spectrum.eigenvectors, spectrum.masses.len()));
     dict.set_item("eigenvectors", eigenvectors)?;

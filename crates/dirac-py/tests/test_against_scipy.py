@@ -162,3 +162,38 @@ def test_anisotropic_laplace_eigenvalues_equal_eigsh_and_its_isotropic_end_is_th
     result = ds.spectrum(V, F, k=8, operator="anisotropic-laplace", anisotropy=2.0)
     assert result.anisotropy == 2.0 and result.kernel_dimension == 1
     np.testing.assert_allclose(np.sort(result.eigenvalues), expected, rtol=1e-8, atol=1e-10)
+
+
+def _quaternion_block_norm(X: scipy.sparse.sparray, mass: np.ndarray) -> float:
+    """``max_p Σ_q |X_pq| / √(mass[p] mass[q])`` of a real-block matrix: each ``4 × 4`` block
+    is a quaternion times an orthogonal matrix, so ``|X_pq|`` is its Frobenius norm over 2."""
+    coo = scipy.sparse.coo_array(X)
+    n = len(mass)
+    squares = scipy.sparse.coo_array(
+        (coo.data**2, (coo.row // 4, coo.col // 4)), shape=(n, n)
+    ).tocsr()
+    squares.sum_duplicates()
+    blocks = squares.tocoo()
+    moduli = np.sqrt(blocks.data) / 2.0 / np.sqrt(mass[blocks.row] * mass[blocks.col])
+    return float(np.bincount(blocks.row, weights=moduli, minlength=n).max())
+
+
+@pytest.mark.parametrize("operator", ["relative-dirac", "laplace"])
+def test_backward_errors_are_the_normwise_backward_errors_of_the_pencil(bumpy_sphere, operator):
+    V, F = bumpy_sphere
+    result = ds.spectrum(V, F, k=12, operator=operator)
+    P, Q, mass = ds.operator_matrices(V, F, operator=operator, form="real")
+    norm_p, norm_q = _quaternion_block_norm(P, mass), _quaternion_block_norm(Q, mass)
+    expected = []
+    for i, lam in enumerate(result.eigenvalues):
+        x = result.eigenvectors[:, i, :].ravel()
+        r = (P @ x - lam * (Q @ x)).reshape(-1, 4)
+        dual = np.sqrt(np.sum(np.sum(r**2, axis=1) / mass))
+        x_norm = np.sqrt(np.sum(mass * np.sum(result.eigenvectors[:, i, :] ** 2, axis=1)))
+        expected.append(dual / ((norm_p + abs(lam) * norm_q) * x_norm))
+    # The residual vector is above rounding level (a relative 1e-10 or so), so numpy's and the
+    # package's agree to a few digits; below rounding level both are at the floor.
+    np.testing.assert_allclose(result.backward_errors, expected, rtol=0.05, atol=1e-14)
+    # The convergence rule of docs/MATH.md holds for every returned pair.
+    passed = (result.residuals <= 100 * 1e-10) | (result.backward_errors <= 1e3 * np.finfo(float).eps)
+    assert passed.all(), (result.residuals, result.backward_errors)

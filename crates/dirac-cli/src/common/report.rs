@@ -46,6 +46,8 @@ pub struct Report {
     pub eigenvalues: Vec<f64>,
     /// Relative residual of each eigenpair.
     pub residuals: Vec<f64>,
+    /// Normwise backward error of each eigenpair (`dirac::spectrum::Spectrum::backward_errors`).
+    pub backward_errors: Vec<f64>,
     /// Quaternionic dimension of the operator's exactly known kernel (eigenvalue 0).
     pub kernel_dimension: usize,
     /// How the kernel was found.
@@ -212,6 +214,7 @@ impl Report {
             converged: true,
             eigenvalues: Vec::new(),
             residuals: Vec::new(),
+            backward_errors: Vec::new(),
             kernel_dimension: 0,
             kernel: KernelReport::default(),
             statistics: StatisticsReport::default(),
@@ -227,6 +230,7 @@ impl Report {
         let s = &spectrum.statistics;
         self.eigenvalues.clone_from(&spectrum.eigenvalues);
         self.residuals.clone_from(&spectrum.residuals);
+        self.backward_errors.clone_from(&spectrum.backward_errors);
         self.kernel_dimension = spectrum.kernel.dimension;
         self.kernel = KernelReport {
             flat_vertices: spectrum.kernel.flat_vertices,
@@ -325,11 +329,16 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
     writeln!(out)?;
     writeln!(
         out,
-        "{:>5}  {:>20}  {:>9}",
-        "index", "eigenvalue", "residual"
+        "{:>5}  {:>20}  {:>9}  {:>14}",
+        "index", "eigenvalue", "residual", "backward error"
     )?;
-    for (i, (value, residual)) in report.eigenvalues.iter().zip(&report.residuals).enumerate() {
-        writeln!(out, "{i:>5}  {:>20}  {residual:>9.2e}", significant(*value))?;
+    let errors = report.residuals.iter().zip(&report.backward_errors);
+    for (i, (value, (residual, backward))) in report.eigenvalues.iter().zip(errors).enumerate() {
+        writeln!(
+            out,
+            "{i:>5}  {:>20}  {residual:>9.2e}  {backward:>14.2e}",
+            significant(*value)
+        )?;
     }
     if !report.converged {
         writeln!(

@@ -43,7 +43,14 @@ class Spectrum:
         eigenvectors: ``(n, k, 4)``: ``eigenvectors[p, i]`` is ``(w, x, y, z)`` of ``φ_i`` at vertex
             ``p``; mass-orthonormal (``Σ_p mass[p] conj(φ_i(p)) φ_j(p) = δ_ij``) in canonical
             phase. ``None`` when computed with ``eigenvectors=False``.
-        residuals: ``(k,)`` relative residual of each pair in the operator's own eigenproblem.
+        residuals: ``(k,)`` relative residual ``‖Pφ − λQφ‖ / (|λ| ‖Qφ‖)`` of each pair in the
+            operator's own eigenproblem (dual norm ``‖r‖² = Σ_p |r_p|² / mass[p]``).
+        backward_errors: ``(k,)`` normwise backward error ``‖Pφ − λQφ‖ / ((‖P‖ + |λ| ‖Q‖) ‖φ‖_M)``
+            of each pair, with ``‖X‖ = max_p Σ_q |X_pq| / √(mass[p] mass[q])``: the smallest
+            relative change of ``P`` and ``Q`` for which the pair is exact. A pair is converged
+            when its residual is at most 100 × the tolerance or its backward error at most
+            ``1000 ε`` (as accurate as double precision allows: an ill-conditioned eigenvalue can
+            have a large relative residual and still be at that floor).
         converged: ``(k,)`` whether each pair passed the convergence test (always true: pairs that
             do not are not returned; see ``NotConvergedError``).
         kernel_dimension: quaternionic dimension of the exactly known kernel (eigenvalue 0).
@@ -59,6 +66,7 @@ class Spectrum:
     eigenvalues: np.ndarray
     eigenvectors: np.ndarray | None
     residuals: np.ndarray
+    backward_errors: np.ndarray
     converged: np.ndarray
     kernel_dimension: int
     kernel_flat_vertices: int
@@ -129,6 +137,7 @@ def _spectrum(raw: dict, request: _Request) -> Spectrum:
         eigenvalues=raw["eigenvalues"],
         eigenvectors=raw["eigenvectors"],
         residuals=raw["residuals"],
+        backward_errors=raw["backward_errors"],
         converged=np.ones(len(raw["eigenvalues"]), dtype=bool),
         kernel_dimension=raw["kernel_dimension"],
         kernel_flat_vertices=raw["kernel_flat_vertices"],

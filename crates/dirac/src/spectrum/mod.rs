@@ -601,6 +601,15 @@ pub struct Spectrum {
     /// `λ = 0`, `‖P φ‖ / (max_p (P_pp/Ā_p) ‖φ‖_M)`), in the dual norm `‖r‖² = Σ_p |r_p|²/Ā_p`,
     /// measured on the returned vectors with the matrices as assembled (flat faces not zeroed).
     pub residuals: Vec<f64>,
+    /// Normwise backward error `‖P φ − λ Q φ‖ / ((‖P‖ + |λ| ‖Q‖) ‖φ‖_M)` of each pair (the
+    /// smallest relative change of `P` and `Q` for which it is exact), in the norms of
+    /// [`Spectrum::residuals`], with `‖X‖ = max_p Σ_q |X_pq| / √(Ā_p Ā_q)`. A pair is returned
+    /// as converged when its relative residual is at most [`CONVERGED_RESIDUAL_FACTOR`] times
+    /// the tolerance **or** its backward error is at most [`ROUNDING_BACKWARD_ERROR`]: an
+    /// ill-conditioned eigenvalue (a small `|λ|` of a pencil with a large `‖P‖`) can have a
+    /// relative residual far above the tolerance while being as accurate as double precision
+    /// allows, and this number is what says so.
+    pub backward_errors: Vec<f64>,
     /// Eigensolver statistics, summed over all solves.
     pub statistics: Statistics,
     /// Factor applied to the positions (1 without normalisation).
@@ -1109,12 +1118,14 @@ fn finish<T: Scalar<Real = f64>>(
         .map(|r| r.is_converged(options.tolerance))
         .collect();
     let residuals = measured.iter().map(|r| r.relative).collect();
+    let backward_errors = measured.iter().map(|r| r.backward_error).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
     let eigenvectors = eigenvectors.into_iter().map(quaternions).collect();
     let spectrum = Spectrum {
         eigenvalues: retain(eigenvalues, &converged),
         eigenvectors: retain(eigenvectors, &converged),
         residuals: retain(residuals, &converged),
+        backward_errors: retain(backward_errors, &converged),
         statistics: pairs.statistics,
         scale,
         masses: masses.to_vec(),

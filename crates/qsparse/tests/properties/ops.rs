@@ -286,6 +286,21 @@ proptest! {
     }
 }
 
+/// `product(x)` on two threads equals the one-thread result bit for bit, and `expected` up to
+/// rounding.
+fn two_threads_agree(
+    product: impl Fn(&[Quat<f64>], &mut [Quat<f64>]) -> Result<(), qsparse::SparseError>,
+    x: &[Quat<f64>],
+    expected: &[Quat<f64>],
+) {
+    let mut two = vec![Quat::default(); expected.len()];
+    product(x, &mut two).unwrap();
+    let mut one = vec![Quat::default(); expected.len()];
+    qsparse::threads::on_one_thread(|| product(x, &mut one)).unwrap();
+    assert_eq!(one, two);
+    assert!(relative_distance(&two, expected) <= TOL);
+}
+
 /// A product large enough to run on two threads (each owning half of the rows of `y`) equals
 /// the one-thread product bit for bit, and the entrywise sum `Σⱼ Aᵢⱼ xⱼ` up to rounding; also
 /// for an odd number of rows and a rectangular matrix. The same for `Aᴴ z` (each thread owning
@@ -310,31 +325,16 @@ fn two_thread_product_is_the_one_thread_product() {
             a.nnz() * 4 >= 1 << 19,
             "the product must take the two-thread path"
         );
-        let mut x = vec![Quat::default(); ncols];
+        let (mut x, mut z) = (vec![Quat::default(); ncols], vec![Quat::default(); nrows]);
         rng.fill_symmetric(&mut x);
-        let mut two = vec![Quat::default(); nrows];
-        a.mul_vec(&x, &mut two).unwrap();
-        let mut one = vec![Quat::default(); nrows];
-        qsparse::threads::on_one_thread(|| a.mul_vec(&x, &mut one)).unwrap();
-        assert_eq!(one, two);
-        let mut expected = vec![Quat::default(); nrows];
-        for &(row, col, value) in &entries {
-            expected[row] += value * x[col];
-        }
-        assert!(relative_distance(&two, &expected) <= TOL);
-
-        let mut z = vec![Quat::default(); nrows];
         rng.fill_symmetric(&mut z);
-        let mut two = vec![Quat::default(); ncols];
-        a.adjoint_mul_vec(&z, &mut two).unwrap();
-        let mut one = vec![Quat::default(); ncols];
-        qsparse::threads::on_one_thread(|| a.adjoint_mul_vec(&z, &mut one)).unwrap();
-        assert_eq!(one, two);
-        let mut expected = vec![Quat::default(); ncols];
+        let (mut ax, mut ahz) = (vec![Quat::default(); nrows], vec![Quat::default(); ncols]);
         for &(row, col, value) in &entries {
-            expected[col] += value.conj() * z[row];
+            ax[row] += value * x[col];
+            ahz[col] += value.conj() * z[row];
         }
-        assert!(relative_distance(&two, &expected) <= TOL);
+        two_threads_agree(|x, y| a.mul_vec(x, y), &x, &ax);
+        two_threads_agree(|z, y| a.adjoint_mul_vec(z, y), &z, &ahz);
     }
 }
 
