@@ -309,6 +309,11 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     round_steps: usize,
     /// Lanczos steps since the last check point or restart.
     since_check: usize,
+    /// Steps after a restart before the next check point may come: [`CHECK_INTERVAL`] after
+    /// a restart that locked nothing (the true residuals refused every candidate, and a check
+    /// one step later would restart on the same candidates again: on the camel head, k = 20,
+    /// 44 restarts and 277 applications instead of 6 and 107), otherwise one.
+    check_delay: usize,
 }
 
 impl<'a, 'p, V, O> Lanczos<'a, 'p, V, O>
@@ -358,6 +363,7 @@ where
             expanded: 0,
             round_steps: 0,
             since_check: 0,
+            check_delay: 1,
         })
     }
 
@@ -436,11 +442,12 @@ where
             self.round_steps += 1;
             self.since_check += 1;
             if self.round_steps >= CHECK_INTERVAL
-                && self.since_check >= check_interval(self.expanded)
+                && self.since_check >= check_interval(self.expanded).max(self.check_delay)
                 && self.expanded < self.active
                 && self.locked.len() + self.expanded >= self.k
             {
                 self.since_check = 0;
+                self.check_delay = 1;
                 return Ok(Expansion::CheckPoint);
             }
         }
@@ -611,6 +618,11 @@ where
         self.kept = p;
         self.expanded = p;
         self.since_check = 0;
+        self.check_delay = if newly_locked.is_empty() {
+            CHECK_INTERVAL
+        } else {
+            1
+        };
         self.active = new_active;
         Ok(AfterRestart::Continue)
     }
