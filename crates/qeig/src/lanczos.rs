@@ -310,9 +310,10 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     /// Lanczos steps since the last check point or restart.
     since_check: usize,
     /// Steps after a restart before the next check point may come: [`CHECK_INTERVAL`] after
-    /// a restart that locked nothing (the true residuals refused every candidate, and a check
-    /// one step later would restart on the same candidates again: on the camel head, k = 20,
-    /// 44 restarts and 277 applications instead of 6 and 107), otherwise one.
+    /// a restart that locked nothing (it had no candidates, or the true residuals refused
+    /// every one, and a check one step later would restart on the same candidates again: on
+    /// the camel head, k = 20, 44 restarts and 277 applications instead of 6 and 107),
+    /// otherwise one.
     check_delay: usize,
 }
 

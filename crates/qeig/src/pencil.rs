@@ -20,7 +20,7 @@ use std::time::Instant;
 use qscalar::Scalar;
 use qsparse::{DenseMatrix, SparseMatrix, threads, vector};
 
-use crate::backend::VECTORS_PER_PASS;
+use crate::backend::{MatVec, VECTORS_PER_PASS};
 use crate::basis::Basis;
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
@@ -131,8 +131,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     /// `(K − Σ w u uᴴ) x`.
     fn k_mul(&self, x: &[T]) -> Vec<T> {
         let mut y = vec![T::zero(); x.len()];
-        // `K x` as `Kᴴ x`: the faster product of a Hermitian matrix.
-        self.k.adjoint_mul_vec(x, &mut y).expect("length n");
+        self.k.mul(x, &mut y);
         for (u, w) in &self.low_rank {
             vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
         }
@@ -357,7 +356,7 @@ fn fold<T: Scalar<Real = f64>>(
         let members = (members.into_iter())
             .map(|x| {
                 let mut sx = vec![T::zero(); x.len()];
-                s.adjoint_mul_vec(&x, &mut sx).expect("length n");
+                s.mul(&x, &mut sx);
                 (x, sx)
             })
             .collect();

@@ -189,9 +189,7 @@ fn from_components<T: Scalar>(q: [T::Real; 4]) -> T {
 fn combine_outer_products<T: Scalar>(s: &[[T::Real; 4]; 4]) -> T {
     let mut result = T::zero();
     for (kappa, row) in s.iter().enumerate().take(T::REAL_DIM) {
-        let mut s_kappa = [T::zero()];
-        T::as_reals_mut(&mut s_kappa).copy_from_slice(&row[..T::REAL_DIM]);
-        result += unit::<T>(kappa).conj() * s_kappa[0];
+        result += unit::<T>(kappa).conj() * from_components::<T>(*row);
     }
     result
 }
