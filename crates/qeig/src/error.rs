@@ -41,6 +41,26 @@ pub enum EigError<T> {
     /// An option is out of range (the message names it).
     #[error("invalid option: {0}")]
     InvalidOption(&'static str),
+    /// A matrix that must be Hermitian is not: its entries `(row, col)` and `(col, row)` are
+    /// not conjugates, beyond [`crate::Pencil::HERMITIAN_TOLERANCE`] times its largest entry.
+    /// Pass the whole matrix (both triangles), or symmetrise it as `(A + Aᴴ) / 2`.
+    #[error(
+        "{which} is not Hermitian: entries ({row}, {col}) and ({col}, {row}) differ from each \
+         other's conjugate by {defect:e}, against a largest entry of {largest:e}; pass both \
+         triangles of a Hermitian matrix, or symmetrise it as (A + Aᴴ) / 2"
+    )]
+    NotHermitian {
+        /// Which operand (`"K"`, `"S"`).
+        which: &'static str,
+        /// Row of the entry furthest from Hermitian.
+        row: usize,
+        /// Its column.
+        col: usize,
+        /// `|A(row, col) − conj(A(col, row))|`.
+        defect: f64,
+        /// The largest `|Aᵢⱼ|`.
+        largest: f64,
+    },
     /// An input value is NaN or infinite.
     #[error("non-finite input: {0}")]
     NonFinite(&'static str),

@@ -51,8 +51,16 @@ pub struct Pencil<'a, T> {
 }
 
 impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
-    /// The pencil `K x = μ S x`. Both matrices must be square of the same size; only their
-    /// lower triangles are read by the factorisations (they are taken to be Hermitian).
+    /// How far from Hermitian `K` and `S` may be, relative to their largest entry:
+    /// `|Aᵢⱼ − conj(Aⱼᵢ)| ≤ HERMITIAN_TOLERANCE · maxᵢⱼ |Aᵢⱼ|`. Rounding in an assembly
+    /// leaves defects near `1e−16`; a matrix given by one triangle, or a non-Hermitian one,
+    /// has defects of the size of its entries.
+    pub const HERMITIAN_TOLERANCE: f64 = 1e-10;
+
+    /// The pencil `K x = μ S x`. Both matrices must be square of the same size and Hermitian
+    /// (both triangles stored, [`EigError::NotHermitian`] otherwise): the factorisations read
+    /// the lower triangles and the products the whole matrices, so a matrix that is not
+    /// Hermitian would give a wrong spectrum, not an error, further on.
     pub fn new(k: &'a SparseMatrix<T>, s: &'a SparseMatrix<T>) -> Result<Self, EigError<T>> {
         for (which, m) in [("K", k), ("S", s)] {
             if m.nrows() != m.ncols() {
@@ -64,6 +72,18 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             }
             if m.values().iter().any(|v| !v.is_finite()) {
                 return Err(EigError::NonFinite(which));
+            }
+            let largest = m.values().iter().fold(0.0f64, |l, v| l.max(v.abs()));
+            if let Some(worst) = m.largest_hermitian_defect()
+                && worst.defect > Self::HERMITIAN_TOLERANCE * largest
+            {
+                return Err(EigError::NotHermitian {
+                    which,
+                    row: worst.row,
+                    col: worst.col,
+                    defect: worst.defect,
+                    largest,
+                });
             }
         }
         if k.nrows() != s.nrows() {

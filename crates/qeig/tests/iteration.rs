@@ -6,7 +6,7 @@ mod common;
 use common::{Rng, columns, dense_truth, distance_to_span, random_hermitian, random_hpd, s_inner};
 use qeig::{ComplexAdjoint, EigError, LanczosOptions, Native, Pencil, RealBlock, Which};
 use qscalar::{Quat, Scalar};
-use qsparse::SparseMatrix;
+use qsparse::{SparseMatrix, TripletMatrix};
 
 type Q = Quat<f64>;
 
@@ -242,6 +242,52 @@ fn bad_input_is_a_typed_error() {
             qeig::EmbeddedFactorizationError::NotPositiveDefinite { .. }
         ))
     ));
+}
+
+/// A matrix that is not Hermitian (one triangle only, or one entry changed) is refused with
+/// the entry furthest from Hermitian; rounding-level asymmetry is accepted.
+#[test]
+fn non_hermitian_matrices_are_refused_with_the_entry() {
+    let (k_mat, s_mat) = pencil(93, 20);
+    let with = |m: &SparseMatrix<Q>, keep: &dyn Fn(usize, usize) -> bool, change: Q| {
+        let mut t = TripletMatrix::new(20, 20);
+        for (i, j, v) in m.triplets().filter(|&(i, j, _)| keep(i, j)) {
+            t.push(i, j, v).unwrap();
+        }
+        t.push(7, 3, change).unwrap(); // duplicates are summed
+        t.to_csc()
+    };
+    let lower = with(&k_mat, &|i, j| i >= j, Q::from_real(0.0));
+    match Pencil::new(&lower, &s_mat) {
+        Err(EigError::NotHermitian {
+            which, row, col, ..
+        }) => {
+            assert_eq!(which, "K");
+            assert!(row != col && k_mat.get(row, col).abs() > 0.0);
+        }
+        other => panic!("lower triangle of K accepted: {other:?}"),
+    }
+    let changed = with(&s_mat, &|_, _| true, Q::new(0.0, 1e-3, 0.0, 0.0));
+    match Pencil::new(&k_mat, &changed) {
+        Err(EigError::NotHermitian {
+            which,
+            row,
+            col,
+            defect,
+            ..
+        }) => {
+            assert_eq!(which, "S");
+            assert!(
+                (row, col) == (7, 3) || (row, col) == (3, 7),
+                "({row}, {col})"
+            );
+            assert!((defect - 1e-3).abs() < 1e-12, "{defect}");
+        }
+        other => panic!("changed S accepted: {other:?}"),
+    }
+    let largest = k_mat.values().iter().fold(0.0f64, |l, v| l.max(v.abs()));
+    let rounding = with(&k_mat, &|_, _| true, Q::from_real(1e-15 * largest));
+    assert!(Pencil::new(&rounding, &s_mat).is_ok());
 }
 
 /// A basis that does not fit in the memory limit is refused before the iteration, with what

@@ -30,4 +30,5 @@ pub use cholesky::{
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
 pub use error::{CholeskyError, SparseError};
+pub use ops::HermitianDefect;
 pub use triplet::TripletMatrix;

@@ -197,15 +197,27 @@ impl<T: Scalar> SparseMatrix<T> {
     /// The Hermitian defect `maxᵢⱼ |Aᵢⱼ − conj(Aⱼᵢ)|` (over both triangles, unstored entries
     /// counting as zero); `0` for a Hermitian matrix and `+∞` for a non-square one.
     pub fn hermitian_defect(&self) -> T::Real {
-        Self::linear_combination(T::one(), self, -T::one(), &self.adjoint()).map_or(
-            T::Real::infinity(),
-            |difference| {
-                difference
-                    .values
-                    .iter()
-                    .fold(T::Real::zero(), |m, v| m.max(v.abs()))
-            },
-        )
+        if self.nrows != self.ncols {
+            return T::Real::infinity();
+        }
+        self.largest_hermitian_defect()
+            .map_or(T::Real::zero(), |worst| worst.defect)
+    }
+
+    /// The entry where a square `A` is furthest from Hermitian: the largest
+    /// `|Aᵢⱼ − conj(Aⱼᵢ)|` (unstored entries counting as zero), the first in column order
+    /// among ties. `None` if `A` is not square or is exactly Hermitian.
+    pub fn largest_hermitian_defect(&self) -> Option<HermitianDefect<T::Real>> {
+        let difference =
+            Self::linear_combination(T::one(), self, -T::one(), &self.adjoint()).ok()?;
+        let mut worst: Option<HermitianDefect<T::Real>> = None;
+        for (row, col, v) in difference.triplets() {
+            let defect = v.abs();
+            if defect > worst.map_or(T::Real::zero(), |w| w.defect) {
+                worst = Some(HermitianDefect { row, col, defect });
+            }
+        }
+        worst
     }
 
     /// Whether `A` is square and Hermitian up to a relative tolerance:
@@ -236,4 +248,15 @@ impl<T: Scalar> SparseMatrix<T> {
             })
             .unzip()
     }
+}
+
+/// Where a square matrix is furthest from Hermitian ([`SparseMatrix::largest_hermitian_defect`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HermitianDefect<R> {
+    /// Row `i` of the entry `Aᵢⱼ`.
+    pub row: usize,
+    /// Column `j` of the entry `Aᵢⱼ`.
+    pub col: usize,
+    /// `|Aᵢⱼ − conj(Aⱼᵢ)|`.
+    pub defect: R,
 }

@@ -149,6 +149,15 @@ fn hermitian_defect_matches_definition<T: ScalarStrategy>(
     }
     prop_assert_eq!(a.hermitian_defect(), expected);
     prop_assert_eq!(a.is_hermitian(1e-3), expected <= 1e-3 * largest);
+    // The entry it names carries that defect (None: exactly Hermitian).
+    match a.largest_hermitian_defect() {
+        None => prop_assert_eq!(expected, 0.0),
+        Some(worst) => {
+            let (i, j) = (worst.row, worst.col);
+            prop_assert_eq!(worst.defect, expected);
+            prop_assert_eq!((dense[(i, j)] - dense[(j, i)].conj()).abs(), expected);
+        }
+    }
     // A + Aᴴ is Hermitian up to rounding of the sums (exactly: addition commutes).
     let symmetrised =
         SparseMatrix::linear_combination(T::one(), &a, T::one(), &a.adjoint()).unwrap();
