@@ -643,7 +643,11 @@ where
         for (c, (&i, residual)) in candidates.iter().zip(residuals).enumerate() {
             let theta = pairs.theta[i];
             let at_rounding_level = pairs.estimate[i] <= ROUNDING * self.norm_estimate;
-            if residual <= tol || at_rounding_level {
+            // A NaN or infinite value (an operator out of floating-point range) never locks.
+            if theta.is_finite()
+                && self.norm_estimate.is_finite()
+                && (residual <= tol || at_rounding_level)
+            {
                 newly_locked.push(c);
                 let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
                 self.new_in_round += usize::from(is_new);

@@ -15,6 +15,7 @@
 //! only re-orthonormalises; for the embedded ones it returns one pair per quaternionic
 //! eigenvalue with its quaternionic multiplicity.
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use qscalar::Scalar;
@@ -43,11 +44,63 @@ use crate::{
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct Pencil<'a, T> {
-    k: &'a SparseMatrix<T>,
-    s: &'a SparseMatrix<T>,
+pub struct Pencil<'a, T: Clone> {
+    /// `a K` and `b S`: the matrices as given, or copies scaled into the safe range
+    /// ([`Scaling`]).
+    k: Cow<'a, SparseMatrix<T>>,
+    s: Cow<'a, SparseMatrix<T>>,
+    scaling: Scaling,
     constraints: Vec<Vec<T>>,
+    /// `(u, a w)`: the terms of `a (K − Σ w u uᴴ)`.
     low_rank: Vec<(Vec<T>, f64)>,
+}
+
+/// The powers of two `a` and `b` by which the pencil solves `(a K) x = μ' (b S) x` instead of
+/// `K x = μ S x` (then `μ = μ' b / a` and `x = x' √b`), as LAPACK's `dsyev` scales a matrix
+/// whose norm is outside its safe range: `1` while the largest component of an entry lies in
+/// `[2⁻¹⁰⁰, 2¹⁰⁰]` (any matrix from a mesh of reasonable units, which are then solved exactly
+/// as given), otherwise the power that brings it to `[½, 1)`. Squares of components, norms
+/// and residual products then stay far from overflow and underflow, which for entries near
+/// `1e±150` turned eigenvalues into NaN. `b` is a power of four, so that `√b` is exact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Scaling {
+    a: f64,
+    b: f64,
+}
+
+impl Scaling {
+    /// Largest component magnitude, as a binary exponent, below which and above which (in
+    /// absolute value) a matrix is scaled.
+    const SAFE_EXPONENT: i32 = 100;
+
+    /// The power of two (of four if `even`) that brings the largest component of `m` into
+    /// `[½, 1)`, or `1` if it is zero or already within `2^±SAFE_EXPONENT`.
+    fn of<T: Scalar<Real = f64>>(m: &SparseMatrix<T>, even: bool) -> f64 {
+        let largest = T::as_reals(m.values())
+            .iter()
+            .fold(0.0f64, |l, v| l.max(v.abs()));
+        if largest == 0.0 {
+            return 1.0;
+        }
+        // largest = f · 2^e with f in [½, 1).
+        let e = largest.log2().floor() as i32 + 1;
+        if e.abs() <= Self::SAFE_EXPONENT {
+            return 1.0;
+        }
+        let e = if even { e + e.rem_euclid(2) } else { e };
+        // In two halves: 2^±1074 itself is out of range.
+        let half = 2f64.powi(-e / 2);
+        half * 2f64.powi(-e + e / 2)
+    }
+
+    /// The copy `factor · m`, or `m` itself when `factor` is `1`.
+    fn apply<T: Scalar<Real = f64>>(m: &SparseMatrix<T>, factor: f64) -> Cow<'_, SparseMatrix<T>> {
+        if factor == 1.0 {
+            Cow::Borrowed(m)
+        } else {
+            Cow::Owned(m.map(|v| v.scale(factor)))
+        }
+    }
 }
 
 impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
@@ -61,6 +114,9 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     /// (both triangles stored, [`EigError::NotHermitian`] otherwise): the factorisations read
     /// the lower triangles and the products the whole matrices, so a matrix that is not
     /// Hermitian would give a wrong spectrum, not an error, further on.
+    ///
+    /// A matrix whose largest entry is outside `2^±100` is solved as a copy scaled by a power
+    /// of two (exact; the results are scaled back), so that no norm overflows or underflows.
     pub fn new(k: &'a SparseMatrix<T>, s: &'a SparseMatrix<T>) -> Result<Self, EigError<T>> {
         for (which, m) in [("K", k), ("S", s)] {
             if m.nrows() != m.ncols() {
@@ -73,18 +129,6 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             if m.values().iter().any(|v| !v.is_finite()) {
                 return Err(EigError::NonFinite(which));
             }
-            let largest = m.values().iter().fold(0.0f64, |l, v| l.max(v.abs()));
-            if let Some(worst) = m.largest_hermitian_defect()
-                && worst.defect > Self::HERMITIAN_TOLERANCE * largest
-            {
-                return Err(EigError::NotHermitian {
-                    which,
-                    row: worst.row,
-                    col: worst.col,
-                    defect: worst.defect,
-                    largest,
-                });
-            }
         }
         if k.nrows() != s.nrows() {
             return Err(EigError::DimensionMismatch {
@@ -93,9 +137,30 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
                 context: "dimension of K against S",
             });
         }
+        let scaling = Scaling {
+            a: Scaling::of(k, false),
+            b: Scaling::of(s, true),
+        };
+        let (k, s) = (Scaling::apply(k, scaling.a), Scaling::apply(s, scaling.b));
+        for (which, m, factor) in [("K", &k, scaling.a), ("S", &s, scaling.b)] {
+            // On the scaled matrix, where no norm overflows or underflows.
+            let largest = m.values().iter().fold(0.0f64, |l, v| l.max(v.abs()));
+            if let Some(worst) = m.largest_hermitian_defect()
+                && worst.defect > Self::HERMITIAN_TOLERANCE * largest
+            {
+                return Err(EigError::NotHermitian {
+                    which,
+                    row: worst.row,
+                    col: worst.col,
+                    defect: worst.defect / factor,
+                    largest: largest / factor,
+                });
+            }
+        }
         Ok(Self {
             k,
             s,
+            scaling,
             constraints: Vec::new(),
             low_rank: Vec::new(),
         })
@@ -144,7 +209,9 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
                 return Err(EigError::NonFinite("low-rank update"));
             }
         }
-        self.low_rank = terms;
+        self.low_rank = (terms.into_iter())
+            .map(|(u, w)| (u, w * self.scaling.a))
+            .collect();
         Ok(self)
     }
 
@@ -190,7 +257,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
                 available,
             });
         }
-        let mut op = backend.prepare(self.k, self.s)?;
+        let mut op = backend.prepare(&self.k, &self.s)?;
         // A term u uᴴ over T is Σ_e (u e)(u e)ᴴ over the units e in the embedded field, where
         // the REAL_DIM units give each distinct term REAL_DIM / COPIES times.
         op.subtract_low_rank(
@@ -247,16 +314,30 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         }
         let mut pairs = fold(
             |x| self.k_mul(x),
-            self.s,
+            &self.s,
             &values,
             vectors,
             options.which,
             options.tolerance,
         )?;
+        // A pencil whose entries span more than the floating-point range (an `S` with
+        // diagonal entries 1 and 1e180) can overflow inside the fold: such a pair has not
+        // converged, whatever the Lanczos estimate said.
+        // Back from the scaled pencil (exact: powers of two).
+        let Scaling { a, b } = self.scaling;
+        pairs.retain(|p| (p.value * (b / a)).is_finite() && p.vector.iter().all(|v| v.is_finite()));
         pairs.truncate(options.k);
-        let values = pairs.iter().map(|p| p.value).collect();
+        let values = pairs.iter().map(|p| p.value * (b / a)).collect();
         let residuals = pairs.iter().map(|p| p.residual).collect();
-        let vectors = pairs.into_iter().map(|p| p.vector).collect();
+        let vectors = (pairs.into_iter())
+            .map(|p| {
+                let mut x = p.vector;
+                if b != 1.0 {
+                    vector::scale(&mut x, b.sqrt());
+                }
+                x
+            })
+            .collect();
         let mut statistics = outcome.statistics;
         (statistics.solves, statistics.solve_time) = op.solve_statistics();
         statistics.factorization_time = factorization_time;

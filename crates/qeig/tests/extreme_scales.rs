@@ -1,0 +1,147 @@
+//! Pencils whose entries are far from 1 (near `1e±200`): the same spectrum as the scaled
+//! problem, never NaN values or a non-Hermitian matrix accepted because a norm overflowed.
+//! Found by the `pencil` fuzz target.
+
+use qeig::{EigError, LanczosOptions, Native, Pencil, Which};
+use qscalar::{Quat, Scalar};
+use qsparse::{SparseMatrix, TripletMatrix};
+
+type Q = Quat<f64>;
+
+fn matrix(n: usize, entries: &[(usize, usize, Q)]) -> SparseMatrix<Q> {
+    let mut t = TripletMatrix::new(n, n);
+    for &(i, j, v) in entries {
+        t.push(i, j, v).unwrap();
+    }
+    t.to_csc()
+}
+
+fn identity(n: usize) -> SparseMatrix<Q> {
+    SparseMatrix::identity(n)
+}
+
+fn refused(k: &SparseMatrix<Q>, s: &SparseMatrix<Q>) -> Option<&'static str> {
+    match Pencil::new(k, s) {
+        Err(EigError::NotHermitian { which, .. }) => Some(which),
+        _ => None,
+    }
+}
+
+#[test]
+fn a_matrix_that_is_not_hermitian_is_refused_at_any_scale() {
+    for value in [1e200, 1.0, 1e-200] {
+        let k = matrix(2, &[(0, 1, Q::from_real(value))]);
+        assert_eq!(
+            refused(&k, &identity(2)),
+            Some("K"),
+            "K₀₁ = {value:e} alone"
+        );
+    }
+    let s = matrix(
+        2,
+        &[
+            (0, 0, Q::from_real(1.0)),
+            (1, 1, Q::new(1.0, 1e188, 0.0, 0.0)),
+        ],
+    );
+    assert_eq!(refused(&identity(2), &s), Some("S"));
+    // Hermitian at those scales: accepted.
+    for value in [1e200, 1e-200] {
+        let q = Q::new(0.5, -2.0, 1.0, 0.25) * Q::from_real(value);
+        let k = matrix(2, &[(0, 1, q), (1, 0, q.conj())]);
+        assert!(Pencil::new(&k, &identity(2)).is_ok(), "{value:e}");
+    }
+}
+
+/// `K` zero but for `K₄₀ = q`, `K₀₄ = q̄`, `S = I`: eigenvalues `±|q|` and four zeros.
+#[test]
+fn huge_entries_give_the_eigenvalues() {
+    let q = Q::new(4.03e175, 1.2e-158, -25.125, 54.0);
+    let size = 4.03e175; // |q|: the other components are below its last digit
+    let k = matrix(6, &[(4, 0, q), (0, 4, q.conj())]);
+    let eig = Pencil::new(&k, &identity(6))
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(4, Which::LargestAlgebraic))
+        .unwrap();
+    assert!(
+        (eig.values[0] - size).abs() <= 1e-12 * size,
+        "{:?}",
+        eig.values
+    );
+    for &v in &eig.values[1..] {
+        assert!(v.abs() <= 1e-10 * size, "{:?}", eig.values);
+    }
+    for x in &eig.vectors {
+        let norm = x.iter().map(|v| v.abs2()).sum::<f64>().sqrt();
+        assert!((norm - 1.0).abs() < 1e-12, "‖x‖ = {norm}");
+    }
+}
+
+/// `K = diag(1e−111, 0, …, 0)`, `S = I`: eigenvalues `1e−111` and zeros.
+#[test]
+fn tiny_entries_give_the_eigenvalues() {
+    let k = matrix(8, &[(0, 0, Q::from_real(1e-111))]);
+    let eig = Pencil::new(&k, &identity(8))
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(6, Which::LargestAlgebraic))
+        .unwrap();
+    assert!(
+        (eig.values[0] - 1e-111).abs() <= 1e-12 * 1e-111,
+        "{:?}",
+        eig.values
+    );
+    for &v in &eig.values[1..] {
+        assert!(v.abs() <= 1e-10 * 1e-111, "{:?}", eig.values);
+    }
+}
+
+/// `K = diag(1, 2, 3, 4)`, `S = 1e−200 I`: `μ = 1e200 · (4, 3, 2, 1)`, eigenvectors of norm
+/// `1e100` (`xᴴ S x = 1`).
+#[test]
+fn a_tiny_s_scales_values_and_vectors() {
+    let k = SparseMatrix::from_diagonal(&[1.0, 2.0, 3.0, 4.0].map(Q::from_real));
+    let s = SparseMatrix::from_diagonal(&[Q::from_real(1e-200); 4]);
+    let eig = Pencil::new(&k, &s)
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(2, Which::LargestAlgebraic))
+        .unwrap();
+    for (v, expected) in eig.values.iter().zip([4e200, 3e200]) {
+        assert!((v - expected).abs() <= 1e-12 * expected, "{:?}", eig.values);
+    }
+    for x in &eig.vectors {
+        // ‖x‖ without overflow: scale first.
+        let norm = x
+            .iter()
+            .map(|v| (v.scale(1e-100)).abs2())
+            .sum::<f64>()
+            .sqrt();
+        assert!((norm - 1.0).abs() < 1e-12, "‖x‖ = {norm} · 1e100");
+    }
+}
+
+/// `K = I` and an `S` whose diagonal spans `1` to `2.8e180` (cond `S` beyond the
+/// floating-point range, so no single scaling helps): the largest `μ` is `1` (six times).
+/// Either it is found, or the run says it did not converge; never a NaN pair reported as
+/// converged (which it was).
+#[test]
+fn an_s_spanning_the_floating_point_range_is_never_a_nan_success() {
+    let q = Q::new(103.375, 103.375, -0.625, 40.0);
+    let mut entries: Vec<(usize, usize, Q)> = (0..8)
+        .map(|i| (i, i, Q::from_real(1.0)))
+        .collect();
+    entries[0].2 = Q::from_real(152.56903336433865);
+    entries[4].2 = Q::from_real(2.77448001759404e180);
+    entries.extend([(4, 0, q), (0, 4, q.conj())]);
+    let s = matrix(8, &entries);
+    let options = LanczosOptions {
+        tolerance: 1e-3,
+        ..LanczosOptions::new(1, Which::LargestAlgebraic)
+    };
+    match Pencil::new(&identity(8), &s).unwrap().solve(&Native, &options) {
+        Ok(eig) => assert!((eig.values[0] - 1.0).abs() < 1e-3, "{:?}", eig.values),
+        Err(EigError::NotConverged { partial, .. }) => {
+            assert!(partial.values.iter().all(|v| (v - 1.0).abs() < 1e-3));
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
