@@ -3,11 +3,12 @@
 //! Vectors form a right module over the scalar `V` (docs/ARCHITECTURE.md, "Conventions"), so
 //! projecting `w` onto the span of orthonormal `v₀ … v_{m−1}` is `w ← w − Σᵢ vᵢ ⟨vᵢ, w⟩` with
 //! the coefficient on the right. The orthogonalisation is memory-bound (the basis is far
-//! larger than the caches), so a pass is *modified* Gram–Schmidt, column by column, with the
-//! update by `vᵢ` and the coefficient of `vᵢ₊₁` fused in one sweep: each basis vector is read
-//! from memory once per pass (its second read, and `w`, come from cache), half the traffic of
-//! a classical pass through a matrix product (`Vᵀ w`, then `V G`), which streams the basis
-//! twice. The kernels ([`vector::inner_long`], [`vector::axpy_then_inner`]) work on the real
+//! larger than the caches), so a pass is *modified* Gram–Schmidt, two columns at a time, with
+//! the update by `vᵢ, vᵢ₊₁` and the coefficients of `vᵢ₊₂, vᵢ₊₃` fused in one sweep: each basis
+//! vector is read from memory once per pass (its second read, and `w`, come from cache), half
+//! the traffic of a classical pass through a matrix product (`Vᵀ w`, then `V G`), which
+//! streams the basis twice, and `w` is read and written once per pair of columns. The kernels
+//! ([`vector::inner_long`], [`vector::axpy_two_then_inner_two`]) work on the real
 //! component layout ([`Scalar::as_reals`]): writing `e₀ … e_{R−1}` for the units of `V`
 //! (`1, i, j, k` for quaternions, `R = REAL_DIM`), `⟨v, w⟩` is `Σ_κλ S_κλ conj(e_κ) e_λ` with
 //! the real outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, and `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`; both are
@@ -192,13 +193,13 @@ impl<V: Scalar<Real = f64>> Basis<V> {
     /// One modified Gram–Schmidt pass against columns `0..m` (orthonormal):
     /// `w ← w − vᵢ ⟨vᵢ, w⟩` for `i = 0 … m−1` in turn, adding the coefficients to `coef[i]`.
     ///
-    /// Column by column, each update `w −= vᵢ cᵢ` fused with the next coefficient
-    /// `⟨vᵢ₊₁, w⟩` in one sweep: each basis vector is read from memory once per pass (the
+    /// Two columns at a time, each update `w −= vᵢ cᵢ + vᵢ₊₁ cᵢ₊₁` fused with the next two
+    /// coefficients in one sweep: each basis vector is read from memory once per pass (the
     /// second read finds it in cache), where a classical pass reads the whole basis twice.
     ///
     /// Long vectors are split by rows between two threads (the sweep is bound by the latency
     /// of its loads, so two cores nearly halve it): each sweeps its rows, and after every
-    /// column the two partial coefficients are exchanged through [`Exchange`] and added in a
+    /// pair of columns the partial coefficients are exchanged through [`Exchange`] and added in a
     /// fixed order (first half, then second), so that both threads use the same coefficient
     /// and the result does not depend on timing.
     fn pass(&self, m: usize, w: &mut [V], coef: &mut [V]) {
@@ -264,14 +265,14 @@ fn combine_rows(mut q: MatMut<'_, f64>, y: MatRef<'_, f64>) {
 }
 
 /// Vectors of at least this many reals are orthogonalised on two threads: below it, the
-/// exchange after every column costs more than half a column's sweep saves.
+/// exchange after every pair of columns costs more than half a sweep saves.
 const PARALLEL_REALS: usize = 1 << 15;
 
-/// The meeting point of the two threads of a Gram–Schmidt pass: per thread, a partial
-/// coefficient for each column parity (double buffering: a thread can be at most one column
-/// ahead) and the number of partials published so far.
+/// The meeting point of the two threads of a Gram–Schmidt pass: per thread, the partial
+/// coefficients of a group of columns for each group parity (double buffering: a thread can
+/// be at most one group ahead) and the number of groups published so far.
 struct Exchange {
-    partials: [[[AtomicU64; 4]; 2]; 2],
+    partials: [[[AtomicU64; 4 * GROUP]; 2]; 2],
     published: [AtomicUsize; 2],
 }
 
@@ -283,17 +284,17 @@ impl Exchange {
         }
     }
 
-    /// Publishes thread `half`'s partial coefficient of column `i`, waits for the other
-    /// thread's, and returns their sum (first half + second half, on both threads).
-    fn total<V: Scalar<Real = f64>>(&self, half: usize, i: usize, partial: V) -> V {
-        let slot = &self.partials[half][i % 2];
-        for (cell, &x) in slot.iter().zip(V::as_reals(&[partial])) {
+    /// Publishes thread `half`'s partial coefficients of group `g`, waits for the other
+    /// thread's, and returns their sums (first half + second half, on both threads).
+    fn total<V: Scalar<Real = f64>>(&self, half: usize, g: usize, partial: Group<V>) -> Group<V> {
+        let slot = &self.partials[half][g % 2];
+        for (cell, &x) in slot.iter().zip(V::as_reals(&partial)) {
             cell.store(x.to_bits(), Ordering::Relaxed);
         }
-        self.published[half].store(i + 1, Ordering::Release);
+        self.published[half].store(g + 1, Ordering::Release);
         let other = 1 - half;
         let mut spins = 0u32;
-        while self.published[other].load(Ordering::Acquire) <= i {
+        while self.published[other].load(Ordering::Acquire) <= g {
             spins += 1;
             if spins < 1 << 12 {
                 std::hint::spin_loop();
@@ -302,19 +303,19 @@ impl Exchange {
                 std::thread::yield_now();
             }
         }
-        let mut theirs = [V::zero()];
+        let mut theirs = [V::zero(); GROUP];
         for (x, cell) in V::as_reals_mut(&mut theirs)
             .iter_mut()
-            .zip(&self.partials[other][i % 2])
+            .zip(&self.partials[other][g % 2])
         {
             *x = f64::from_bits(cell.load(Ordering::Relaxed));
         }
         let (a, b) = if half == 0 {
-            (partial, theirs[0])
+            (partial, theirs)
         } else {
-            (theirs[0], partial)
+            (theirs, partial)
         };
-        a + b
+        std::array::from_fn(|i| a[i] + b[i])
     }
 }
 
@@ -352,28 +353,69 @@ fn pass<V: Scalar<Real = f64>>(
     });
 }
 
-/// The fused modified Gram–Schmidt sweep over the rows `rows` (held by `w`) of columns `0..m`;
-/// `total(i, partial)` turns the partial coefficient of column `i` over these rows into the
-/// full one. Adds the coefficients to `coef` if given.
+/// Columns per step of a sweep: the update by a group and the coefficients of the next
+/// group share one read and write of `w`.
+const GROUP: usize = 2;
+
+/// The coefficients of a group of columns (the second is zero for a single last column).
+type Group<V> = [V; GROUP];
+
+/// The fused modified Gram–Schmidt sweep over the rows `rows` (held by `w`) of columns `0..m`,
+/// two columns at a time: the update by columns `2g, 2g + 1` fused with the coefficients of
+/// columns `2g + 2, 2g + 3` (both from the same `w`: classical Gram–Schmidt within a pair,
+/// which against orthonormal columns is as accurate as modified). `total(g, partials)` turns
+/// the partial coefficients of group `g` over these rows into the full ones. Adds the
+/// coefficients to `coef` if given.
 fn sweep<V: Scalar<Real = f64>>(
     basis: &Basis<V>,
     m: usize,
     rows: std::ops::Range<usize>,
     w: &mut [V],
     mut coef: Option<&mut [V]>,
-    total: impl Fn(usize, V) -> V,
+    total: impl Fn(usize, Group<V>) -> Group<V>,
 ) {
     let column = |i: usize| &basis.col(i)[rows.clone()];
-    let mut c = total(0, vector::inner_long(column(0), w));
-    for i in 0..m {
+    // Group `g` holds columns `2g` and, if it exists, `2g + 1`.
+    let group = |g: usize| {
+        let first = GROUP * g;
+        [column(first), column((first + 1).min(m - 1))]
+    };
+    let pair = |g: usize| GROUP * g + 1 < m;
+    let groups = m.div_ceil(GROUP);
+    let first = group(0);
+    let initial = if pair(0) {
+        let (a, b) = vector::inner_two(first[0], first[1], w);
+        [a, b]
+    } else {
+        [vector::inner_long(first[0], w), V::zero()]
+    };
+    let mut c = total(0, initial);
+    for g in 0..groups {
         if let Some(coef) = coef.as_deref_mut() {
-            coef[i] += c;
+            coef[GROUP * g] += c[0];
+            if pair(g) {
+                coef[GROUP * g + 1] += c[1];
+            }
         }
-        let next = (i + 1 < m).then(|| column(i + 1));
-        let partial = update_then_inner(w, column(i), V::zero() - c, next);
-        if i + 1 < m {
-            c = total(i + 1, partial);
+        let minus = [V::zero() - c[0], V::zero() - c[1]];
+        let v = group(g);
+        if g + 1 == groups {
+            if pair(g) {
+                vector::axpy_two(w, v[0], v[1], minus[0], minus[1]);
+            } else {
+                vector::axpy(w, v[0], minus[0]);
+            }
+            return;
         }
+        // Only the last group can be a single column.
+        let partials = vector::axpy_two_then_inner_two(w, v, minus, group(g + 1));
+        c = total(
+            g + 1,
+            [
+                partials[0],
+                if pair(g + 1) { partials[1] } else { V::zero() },
+            ],
+        );
     }
 }
 
@@ -389,51 +431,48 @@ impl Drop for Abandon<'_> {
     }
 }
 
-/// `w ← w + v c`, then `⟨next, w⟩` (zero without `next`), in one sweep over the vectors.
-fn update_then_inner<V: Scalar<Real = f64>>(w: &mut [V], v: &[V], c: V, next: Option<&[V]>) -> V {
-    match next {
-        Some(next) => vector::axpy_then_inner(w, v, c, next),
-        None => {
-            vector::axpy(w, v, c);
-            V::zero()
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use qscalar::{Complex, Quat};
 
-    /// The kernels of a pass agree with the plain `qsparse` ones, remainders included.
-    fn check<V: Scalar<Real = f64>>() {
+    /// A pass over `m` orthonormal columns (pairs and a single last column, on one thread)
+    /// is the projection `w − Σᵢ vᵢ ⟨vᵢ, w⟩` with the coefficients `⟨vᵢ, w⟩`, up to rounding.
+    fn pass_projects<V: Scalar<Real = f64>>() {
         let mut rng = qscalar::random::SplitMix64::new(7);
-        for n in [0usize, 1, 2, 3, 5, 8, 13, 64, 101] {
-            let (mut v, mut w, mut next) =
-                (vec![V::zero(); n], vec![V::zero(); n], vec![V::zero(); n]);
-            rng.fill_symmetric(&mut v);
-            rng.fill_symmetric(&mut w);
-            rng.fill_symmetric(&mut next);
-            let mut c = [V::zero()];
-            rng.fill_symmetric(&mut c);
-            let scale = 1.0 + n as f64;
-            assert!((vector::inner_long(&v, &w) - vector::inner(&v, &w)).abs() <= 1e-13 * scale);
-            let mut expected = w.clone();
-            vector::axpy(&mut expected, &v, c[0]);
-            let expected_inner = vector::inner(&next, &expected);
-            let got = update_then_inner(&mut w, &v, c[0], Some(&next));
-            assert!((got - expected_inner).abs() <= 1e-13 * scale);
-            for (a, b) in w.iter().zip(&expected) {
-                assert!((*a - *b).abs() <= 1e-14 * scale);
+        for n in [7usize, 13, 64, 101] {
+            let mut basis = Basis::<V>::new(n);
+            let mut coef = Vec::new();
+            for m in 0..6 {
+                let mut w = vec![V::zero(); n];
+                rng.fill_symmetric(&mut w);
+                let expected_coef: Vec<V> =
+                    (0..m).map(|i| vector::inner(basis.col(i), &w)).collect();
+                let mut expected = w.clone();
+                for (i, &c) in expected_coef.iter().enumerate() {
+                    vector::axpy(&mut expected, basis.col(i), V::zero() - c);
+                }
+                let mut got_coef = vec![V::zero(); m];
+                pass(&basis, m, &mut w, &mut got_coef, false);
+                let scale = 1.0 + n as f64;
+                for (a, b) in got_coef.iter().zip(&expected_coef) {
+                    assert!((*a - *b).abs() <= 1e-13 * scale, "m = {m}: coefficients");
+                }
+                for (a, b) in w.iter().zip(&expected) {
+                    assert!((*a - *b).abs() <= 1e-13 * scale, "m = {m}: vector");
+                }
+                let mut v = vec![V::zero(); n];
+                rng.fill_symmetric(&mut v);
+                assert!(basis.append_orthonormal(&mut v, &mut coef));
             }
         }
     }
 
     #[test]
-    fn kernels_match_reference() {
-        check::<f64>();
-        check::<Complex<f64>>();
-        check::<Quat<f64>>();
+    fn pass_is_the_projection() {
+        pass_projects::<f64>();
+        pass_projects::<Complex<f64>>();
+        pass_projects::<Quat<f64>>();
     }
 
     /// The two-thread pass gives the one-thread result up to rounding, for vectors long

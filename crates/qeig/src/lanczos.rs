@@ -10,8 +10,8 @@
 //! # Algorithm
 //!
 //! * **Expansion.** `w = A qⱼ`; the three-term recurrence `w −= qⱼ αⱼ + qⱼ₋₁ βⱼ₋₁` is followed
-//!   by a full Gram–Schmidt pass (modified, column by column, each basis vector read from
-//!   memory once) against the deflation vectors, the locked vectors and the whole active
+//!   by a full Gram–Schmidt pass (modified, two columns at a time, each basis vector read
+//!   from memory once) against the deflation vectors, the locked vectors and the whole active
 //!   basis, repeated once when it removed more than `1 − 1/√2` of the norm (coefficients on
 //!   the right). If `βⱼ` vanishes (an invariant subspace) a fresh random vector orthogonal to
 //!   everything is appended with coupling `0`, which keeps the projected matrix exact.

@@ -126,9 +126,7 @@ fn a_tiny_s_scales_values_and_vectors() {
 #[test]
 fn an_s_spanning_the_floating_point_range_is_never_a_nan_success() {
     let q = Q::new(103.375, 103.375, -0.625, 40.0);
-    let mut entries: Vec<(usize, usize, Q)> = (0..8)
-        .map(|i| (i, i, Q::from_real(1.0)))
-        .collect();
+    let mut entries: Vec<(usize, usize, Q)> = (0..8).map(|i| (i, i, Q::from_real(1.0))).collect();
     entries[0].2 = Q::from_real(152.56903336433865);
     entries[4].2 = Q::from_real(2.77448001759404e180);
     entries.extend([(4, 0, q), (0, 4, q.conj())]);
@@ -137,7 +135,10 @@ fn an_s_spanning_the_floating_point_range_is_never_a_nan_success() {
         tolerance: 1e-3,
         ..LanczosOptions::new(1, Which::LargestAlgebraic)
     };
-    match Pencil::new(&identity(8), &s).unwrap().solve(&Native, &options) {
+    match Pencil::new(&identity(8), &s)
+        .unwrap()
+        .solve(&Native, &options)
+    {
         Ok(eig) => assert!((eig.values[0] - 1.0).abs() < 1e-3, "{:?}", eig.values),
         Err(EigError::NotConverged { partial, .. }) => {
             assert!(partial.values.iter().all(|v| (v - 1.0).abs() < 1e-3));

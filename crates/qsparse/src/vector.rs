@@ -243,45 +243,60 @@ pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
     (inner(a, g), inner(b, g))
 }
 
-/// `w ← w + v c`, then `⟨next, w⟩`, in one sweep (the step of a modified Gram–Schmidt pass:
-/// the update by one basis vector fused with the coefficient of the next).
+/// `w ← w + v₁ c₁ + v₂ c₂`, then `(⟨n₁, w⟩, ⟨n₂, w⟩)` with the new `w`: two columns of a
+/// modified Gram–Schmidt sweep (classical within the pair: both coefficients of the next pair
+/// come from the same `w`), reading and writing `w` once.
 ///
-/// Quaternions (with AVX2 and FMA) go through one register per entry; reals and complex
-/// numbers through the eight independent lanes of [`inner_long`], whose rounding the
-/// coefficient then shares.
+/// Quaternions (with AVX2 and FMA) go through one register per entry; other scalars (and
+/// quaternions without AVX2) through eight independent lanes, as [`inner_long`], whose
+/// rounding the coefficients then share.
 ///
 /// # Panics
-/// If `v` or `next` is not as long as `w`.
-pub fn axpy_then_inner<T: Scalar<Real = f64>>(w: &mut [T], v: &[T], c: T, next: &[T]) -> T {
+/// If a slice is not as long as `w`.
+pub fn axpy_two_then_inner_two<T: Scalar<Real = f64>>(
+    w: &mut [T],
+    v: [&[T]; 2],
+    c: [T; 2],
+    next: [&[T]; 2],
+) -> [T; 2] {
     assert!(
-        v.len() == w.len() && next.len() == w.len(),
-        "axpy_then_inner: lengths differ"
+        v.iter().chain(&next).all(|x| x.len() == w.len()),
+        "axpy_two_then_inner_two: lengths differ"
     );
     #[cfg(target_arch = "x86_64")]
     if quaternion_kernels::<T>() {
-        let mc = unit_products(c);
-        // SAFETY: as in `axpy_two`.
-        let s = unsafe {
-            quaternion::multiply_add_then_outer_products(
+        let (mc, md) = (unit_products(c[0]), unit_products(c[1]));
+        let kernel = if crate::simd::has_avx512vl() {
+            quaternion::multiply_add_two_then_inner_two_wide
+        } else {
+            quaternion::multiply_add_two_then_inner_two
+        };
+        // SAFETY: as in `axpy_two` (and AVX-512VL for the wide kernel).
+        let (a, b) = unsafe {
+            kernel(
                 T::as_reals_mut(w),
-                T::as_reals(v),
+                T::as_reals(v[0]),
+                T::as_reals(v[1]),
                 &mc,
-                T::as_reals(next),
+                &md,
+                T::as_reals(next[0]),
+                T::as_reals(next[1]),
             )
         };
-        return combine_outer_products(&s);
+        return [from_components(a), from_components(b)];
     }
-    let rows = unit_products(c);
-    let (wr, vr, nr) = (T::as_reals_mut(w), T::as_reals(v), T::as_reals(next));
+    let rows = c.map(unit_products);
+    let (wr, v, next) = (
+        T::as_reals_mut(w),
+        v.map(T::as_reals),
+        next.map(T::as_reals),
+    );
     let s = match T::REAL_DIM {
-        1 => lanes::widen(lanes::fused::<1>(wr, vr, lanes::narrow(rows), nr)),
-        2 => lanes::widen(lanes::fused::<2>(wr, vr, lanes::narrow(rows), nr)),
-        _ => {
-            axpy(w, v, c);
-            return inner(next, w);
-        }
+        1 => lanes::fused_two::<1>(wr, v, rows.map(lanes::narrow), next).map(lanes::widen),
+        2 => lanes::fused_two::<2>(wr, v, rows.map(lanes::narrow), next).map(lanes::widen),
+        _ => lanes::fused_two::<4>(wr, v, rows.map(lanes::narrow), next).map(lanes::widen),
     };
-    combine_outer_products(&s)
+    s.map(|s| combine_outer_products(&s))
 }
 
 /// `Σₚ conj(aₚ) x[rows[p]]`: the inner product of the sparse vector with entries `a` at

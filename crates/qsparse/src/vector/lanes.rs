@@ -1,7 +1,7 @@
 //! Kernels over the real component layout of `f64`, `Complex<f64>` and `Quat<f64>` vectors
 //! (`R = REAL_DIM` reals per entry), spread over eight independent lanes so that a long sweep
 //! is bound by memory rather than by the latency of one accumulation chain: the inner product
-//! of [`super::inner_long`] and, for `R ≤ 2`, the fused update of [`super::axpy_then_inner`].
+//! of [`super::inner_long`] and, for `R ≤ 2`, the fused update of [`super::axpy_two_then_inner_two`].
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
@@ -17,13 +17,13 @@ pub(super) fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
 }
 
 dispatch_avx2_fma! {
-/// [`fused_kernel`], with FMA where the CPU has it.
-pub(super) fn fused[const R: usize](
+/// [`fused_two_kernel`], with FMA where the CPU has it.
+pub(super) fn fused_two[const R: usize](
     w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] => fused_kernel[R,]
+    v: [&[f64]; 2],
+    rows: [[[f64; R]; R]; 2],
+    next: [&[f64]; 2],
+) -> [[[f64; R]; R]; 2] => fused_two_kernel[R,]
 }
 
 #[inline(always)]
@@ -31,64 +31,70 @@ fn mul_add<const FUSED: bool>(a: f64, b: f64, c: f64) -> f64 {
     if FUSED { a.mul_add(b, c) } else { a * b + c }
 }
 
-/// `w[R l + λ] += Σ_κ v[R l + κ] rows[κ][λ]`, then `S_κλ = Σₗ next[R l + κ] w[R l + λ]`
-/// (`R` divides 8; lengths equal).
+/// `w[R l + λ] += Σ_g Σ_κ v_g[R l + κ] rows_g[κ][λ]`, then, with the new `w`,
+/// `S_g,κλ = Σₗ next_g[R l + κ] w[R l + λ]` for `g = 0, 1` (`R` divides 8; lengths equal).
 #[inline(always)]
-fn fused_kernel<const R: usize, const FUSED: bool>(
+fn fused_two_kernel<const R: usize, const FUSED: bool>(
     w: &mut [f64],
-    v: &[f64],
-    rows: [[f64; R]; R],
-    next: &[f64],
-) -> [[f64; R]; R] {
+    v: [&[f64]; 2],
+    rows: [[[f64; R]; R]; 2],
+    next: [&[f64]; 2],
+) -> [[[f64; R]; R]; 2] {
     const LANES: usize = 8;
     let len = w.len();
-    let (v, next) = (&v[..len], &next[..len]);
-    // Row κ of the update spread over the lanes: mult[κ][p] = rows[κ][p mod R].
-    let mut mult = [[0.0f64; LANES]; R];
-    for (kappa, m) in mult.iter_mut().enumerate() {
-        for (p, x) in m.iter_mut().enumerate() {
-            *x = rows[kappa][p % R];
-        }
-    }
-    let mut acc = [[0.0f64; LANES]; R];
-    let mut cw = w.chunks_exact_mut(LANES);
-    let mut cv = v.chunks_exact(LANES);
-    let mut cn = next.chunks_exact(LANES);
-    for ((w8, v8), n8) in (&mut cw).zip(&mut cv).zip(&mut cn) {
-        let w8: &mut [f64; LANES] = w8.try_into().expect("chunk of LANES");
-        let v8: &[f64; LANES] = v8.try_into().expect("chunk of LANES");
-        let n8: &[f64; LANES] = n8.try_into().expect("chunk of LANES");
-        for (kappa, m) in mult.iter().enumerate() {
-            for (p, x) in w8.iter_mut().enumerate() {
-                *x = mul_add::<FUSED>(v8[(p / R) * R + kappa], m[p], *x);
-            }
-        }
-        for (lambda, row) in acc.iter_mut().enumerate() {
-            for (p, s) in row.iter_mut().enumerate() {
-                *s = mul_add::<FUSED>(n8[p], w8[(p / R) * R + lambda], *s);
+    let (v, next) = (v.map(|x| &x[..len]), next.map(|x| &x[..len]));
+    // Row κ of update g spread over the lanes: mult[g][κ][p] = rows[g][κ][p mod R].
+    let mut mult = [[[0.0f64; LANES]; R]; 2];
+    for (m, r) in mult.iter_mut().zip(&rows) {
+        for (kappa, m) in m.iter_mut().enumerate() {
+            for (p, x) in m.iter_mut().enumerate() {
+                *x = r[kappa][p % R];
             }
         }
     }
-    let mut s = [[0.0f64; R]; R];
-    for (lambda, row) in acc.iter().enumerate() {
-        for (p, &x) in row.iter().enumerate() {
-            s[p % R][lambda] += x;
-        }
-    }
-    let (rw, rv, rn) = (cw.into_remainder(), cv.remainder(), cn.remainder());
-    for ((ew, ev), en) in rw
-        .chunks_exact_mut(R)
-        .zip(rv.chunks_exact(R))
-        .zip(rn.chunks_exact(R))
-    {
-        for (lambda, x) in ew.iter_mut().enumerate() {
-            for (kappa, row) in rows.iter().enumerate() {
-                *x += ev[kappa] * row[lambda];
+    let mut acc = [[[0.0f64; LANES]; R]; 2];
+    let chunks = len / LANES * LANES;
+    for c in (0..chunks).step_by(LANES) {
+        let w8: &mut [f64; LANES] = (&mut w[c..c + LANES]).try_into().expect("chunk of LANES");
+        for (vg, m) in v.iter().zip(&mult) {
+            let v8: &[f64; LANES] = vg[c..c + LANES].try_into().expect("chunk of LANES");
+            for (kappa, m) in m.iter().enumerate() {
+                for (p, x) in w8.iter_mut().enumerate() {
+                    *x = mul_add::<FUSED>(v8[(p / R) * R + kappa], m[p], *x);
+                }
             }
         }
-        for (kappa, row) in s.iter_mut().enumerate() {
-            for (lambda, x) in row.iter_mut().enumerate() {
-                *x += en[kappa] * ew[lambda];
+        for (ng, acc) in next.iter().zip(&mut acc) {
+            let n8: &[f64; LANES] = ng[c..c + LANES].try_into().expect("chunk of LANES");
+            for (lambda, row) in acc.iter_mut().enumerate() {
+                for (p, s) in row.iter_mut().enumerate() {
+                    *s = mul_add::<FUSED>(n8[p], w8[(p / R) * R + lambda], *s);
+                }
+            }
+        }
+    }
+    let mut s = [[[0.0f64; R]; R]; 2];
+    for (s, acc) in s.iter_mut().zip(&acc) {
+        for (lambda, row) in acc.iter().enumerate() {
+            for (p, &x) in row.iter().enumerate() {
+                s[p % R][lambda] += x;
+            }
+        }
+    }
+    for e in (chunks..len).step_by(R) {
+        let ew = &mut w[e..e + R];
+        for (vg, r) in v.iter().zip(&rows) {
+            for (lambda, x) in ew.iter_mut().enumerate() {
+                for (kappa, row) in r.iter().enumerate() {
+                    *x += vg[e + kappa] * row[lambda];
+                }
+            }
+        }
+        for (ng, s) in next.iter().zip(&mut s) {
+            for (kappa, row) in s.iter_mut().enumerate() {
+                for (lambda, x) in row.iter_mut().enumerate() {
+                    *x += ng[e + kappa] * ew[lambda];
+                }
             }
         }
     }

@@ -69,17 +69,6 @@ unsafe fn accumulate_outer(s: &mut [__m256d; 4], a: &[f64], g: __m256d) {
     }
 }
 
-/// Stores the accumulators as `S[κ][λ]`.
-#[inline(always)]
-fn store_outer(s: [__m256d; 4]) -> Outer {
-    let mut out = [[0.0; 4]; 4];
-    for (row, v) in out.iter_mut().zip(s) {
-        // SAFETY: `row` holds four `f64`.
-        unsafe { _mm256_storeu_pd(row.as_mut_ptr(), v) };
-    }
-    out
-}
-
 /// `gᵣ ← gᵣ + aᵣ x + bᵣ y` with `mx[κ] = e_κ x`, `my[κ] = e_κ y`.
 ///
 /// # Safety
@@ -190,32 +179,85 @@ fn store_combined(s: [__m256d; 4]) -> [f64; 4] {
     q
 }
 
-/// `wᵣ ← wᵣ + vᵣ c` (with `mc[κ] = e_κ c`), then the outer products of `next` with the new
-/// `w`, in one sweep: the modified Gram–Schmidt step of a Krylov basis.
+/// `wᵣ ← wᵣ + vᵣ c + uᵣ d` (with `mc[κ] = e_κ c`, `md[κ] = e_κ d`), then the inner products
+/// of `next` and `after` with the new `w`, combined in registers: two columns of a modified
+/// Gram–Schmidt sweep per read and write of `w`.
 ///
 /// # Safety
 /// See the module documentation.
+#[allow(clippy::too_many_arguments)]
 #[target_feature(enable = "avx2,fma")]
-pub(super) unsafe fn multiply_add_then_outer_products(
+pub(super) unsafe fn multiply_add_two_then_inner_two(
     w: &mut [f64],
     v: &[f64],
+    u: &[f64],
     mc: &Outer,
+    md: &Outer,
     next: &[f64],
-) -> Outer {
-    let cc = load_columns(mc);
-    let mut s = [_mm256_setzero_pd(); 4];
-    for ((wr, vr), nr) in w
+    after: &[f64],
+) -> ([f64; 4], [f64; 4]) {
+    // SAFETY: the caller guarantees the contract.
+    unsafe { pair_step(w, v, u, mc, md, next, after) }
+}
+
+/// [`multiply_add_two_then_inner_two`] compiled for AVX-512VL as well: the same 256-bit
+/// operations, with 32 vector registers instead of 16, enough for the eight constant columns
+/// and the eight accumulators of a pair without spilling.
+///
+/// # Safety
+/// See the module documentation; AVX-512F and AVX-512VL are available too.
+#[allow(clippy::too_many_arguments)]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+pub(super) unsafe fn multiply_add_two_then_inner_two_wide(
+    w: &mut [f64],
+    v: &[f64],
+    u: &[f64],
+    mc: &Outer,
+    md: &Outer,
+    next: &[f64],
+    after: &[f64],
+) -> ([f64; 4], [f64; 4]) {
+    // SAFETY: the caller guarantees the contract.
+    unsafe { pair_step(w, v, u, mc, md, next, after) }
+}
+
+/// The body of [`multiply_add_two_then_inner_two`], inlined into each of its compilations.
+///
+/// # Safety
+/// AVX2 and FMA; see the module documentation.
+#[inline(always)]
+unsafe fn pair_step(
+    w: &mut [f64],
+    v: &[f64],
+    u: &[f64],
+    mc: &Outer,
+    md: &Outer,
+    next: &[f64],
+    after: &[f64],
+) -> ([f64; 4], [f64; 4]) {
+    let (cc, cd) = (load_columns(mc), load_columns(md));
+    // SAFETY: the caller guarantees the features.
+    let mut s = [unsafe { _mm256_setzero_pd() }; 4];
+    let mut t = s;
+    for ((((wr, vr), ur), nr), ar) in w
         .chunks_exact_mut(4)
         .zip(v.chunks_exact(4))
+        .zip(u.chunks_exact(4))
         .zip(next.chunks_exact(4))
+        .zip(after.chunks_exact(4))
     {
         prefetch(nr.as_ptr());
-        // SAFETY: every chunk holds four `f64`.
+        prefetch(ar.as_ptr());
+        // SAFETY: every chunk holds four `f64`; the caller guarantees the features.
         unsafe {
-            let updated = times_columns(vr, &cc, _mm256_loadu_pd(wr.as_ptr()));
+            // Two independent chains, joined once.
+            let first = times_columns(vr, &cc, _mm256_loadu_pd(wr.as_ptr()));
+            let second = times_columns(ur, &cd, _mm256_setzero_pd());
+            let updated = _mm256_add_pd(first, second);
             _mm256_storeu_pd(wr.as_mut_ptr(), updated);
             accumulate_outer(&mut s, nr, updated);
+            accumulate_outer(&mut t, ar, updated);
         }
     }
-    store_outer(s)
+    (store_combined(s), store_combined(t))
 }

@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use qscalar::Quat;
 use qscalar::strategies::ScalarStrategy;
 use qsparse::strategies::vector;
-use qsparse::vector::{axpy, axpy_then_inner, axpy_two, inner, inner_long, inner_two};
+use qsparse::vector::{axpy, axpy_two, axpy_two_then_inner_two, inner, inner_long, inner_two};
 
 const TOL: f64 = 1e-12;
 
@@ -63,11 +63,17 @@ fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
     prop_assert!(close(inner(&a, &g), naive_inner(&a, &g), scale));
     prop_assert!(close(inner_long(&a, &g), naive_inner(&a, &g), scale));
 
+    // The pair step of a Gram–Schmidt sweep: the update by `a` and `b`, then the coefficients
+    // of `next` and `a` from the updated vector.
     let mut fused = g.clone();
-    let coefficient = axpy_then_inner(&mut fused, &a, x, &next);
-    prop_assert!(close(coefficient, naive_inner(&next, &one), scale));
+    let [c_next, c_a] = axpy_two_then_inner_two(&mut fused, [&a, &b], [x, y], [&next, &a]);
+    prop_assert!(close(c_next, naive_inner(&next, &two), scale));
+    prop_assert!(close(c_a, naive_inner(&a, &two), scale));
     for r in 0..g.len() {
-        prop_assert!(close(fused[r], one[r], scale), "axpy_then_inner, entry {r}");
+        prop_assert!(
+            close(fused[r], two[r], scale),
+            "axpy_two_then_inner_two, entry {r}"
+        );
     }
     Ok(())
 }
