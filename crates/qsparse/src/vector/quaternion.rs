@@ -261,3 +261,41 @@ unsafe fn pair_step(
     }
     (store_combined(s), store_combined(t))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pair kernel gives the same bits compiled for 16 or for 32 registers (the same
+    /// operations in the same order), so the CPU a run lands on does not change its results.
+    #[test]
+    fn both_compilations_of_the_pair_step_agree() {
+        if !(crate::simd::has_avx2_fma() && crate::simd::has_avx512vl()) {
+            return; // Only one of them can run here.
+        }
+        let mut rng = qscalar::random::SplitMix64::new(11);
+        let mut vector = |len: usize| {
+            let mut v = vec![0.0; len];
+            rng.fill_symmetric(&mut v);
+            v
+        };
+        for len in [0, 4, 8, 44, 400] {
+            let (v, u, next, after) = (vector(len), vector(len), vector(len), vector(len));
+            let (mc, md) = ([[0.5, -1.0, 0.25, 2.0]; 4], [[1.5, 0.0, -0.75, 0.125]; 4]);
+            let (mut narrow, mut wide) = (vector(len), Vec::new());
+            wide.clone_from(&narrow);
+            // SAFETY: AVX2, FMA and AVX-512VL are available (checked above); lengths are
+            // equal multiples of four.
+            let (a, b) = unsafe {
+                (
+                    multiply_add_two_then_inner_two(&mut narrow, &v, &u, &mc, &md, &next, &after),
+                    multiply_add_two_then_inner_two_wide(
+                        &mut wide, &v, &u, &mc, &md, &next, &after,
+                    ),
+                )
+            };
+            assert_eq!(a, b, "coefficients, length {len}");
+            assert_eq!(narrow, wide, "updated vector, length {len}");
+        }
+    }
+}
