@@ -17,32 +17,11 @@ use qeig::{EigError, Eigen, LanczosOptions, Native, Pencil, Which};
 use qscalar::Quat;
 use qsparse::{SparseMatrix, TripletMatrix};
 
-type Q = Quat<f64>;
+#[path = "quaternion_matrices.rs"]
+mod quaternion_matrices;
+use quaternion_matrices::{Q, make_dominant, push_entries, quat};
 
 const TOLERANCE: f64 = Pencil::<Q>::HERMITIAN_TOLERANCE;
-
-/// A component value; `moderate` is cleared when it is not a multiple of 1/16 in ±2048.
-fn component(u: &mut Unstructured, moderate: &mut bool) -> Result<f64> {
-    Ok(match u.int_in_range(0..=31u8)? {
-        0 => f64::NAN,
-        1 => f64::INFINITY,
-        2 => f64::NEG_INFINITY,
-        3 | 4 => {
-            *moderate = false;
-            f64::from_bits(u.arbitrary()?)
-        }
-        _ => f64::from(u.arbitrary::<i16>()? >> 4) / 16.0,
-    })
-    .inspect(|v| *moderate &= v.is_finite())
-}
-
-fn quat(u: &mut Unstructured, moderate: &mut bool) -> Result<Q> {
-    let mut c = [0.0; 4];
-    for v in &mut c {
-        *v = component(u, moderate)?;
-    }
-    Ok(Quat::from_array(c))
-}
 
 /// A generated operand and what is known about it by construction.
 struct Operand {
@@ -59,41 +38,9 @@ fn operand(u: &mut Unstructured, nrows: usize, ncols: usize, dominant: u8) -> Re
     let hermitise = u.ratio(3, 4)?;
     let mut moderate = true;
     let mut t = TripletMatrix::new(nrows, ncols);
-    for _ in 0..u.int_in_range(0..=24)? {
-        if n == 0 {
-            break;
-        }
-        let (i, j) = (u.int_in_range(0..=n - 1)?, u.int_in_range(0..=n - 1)?);
-        let mut v = quat(u, &mut moderate)?;
-        if i == j && hermitise {
-            v = Quat::from_real(v.w);
-        }
-        // Non-finite values are rejected by the assembly; they are put in through
-        // `values_mut` below.
-        let finite = if v.is_finite() { v } else { Q::default() };
-        t.push(i, j, finite).expect("in range and finite");
-        if hermitise && i != j {
-            t.push(j, i, finite.conj()).expect("in range and finite");
-        }
-    }
-    let mut dominated = false;
-    if hermitise && nrows == ncols && u.ratio(dominant, 4)? {
-        // Strictly diagonally dominant: positive definite if every value is moderate.
-        let mut row_sums = vec![1.0; n];
-        for &(i, _, v) in t.entries() {
-            row_sums[i] += v.norm();
-        }
-        dominated = true;
-        for (i, &d) in row_sums.iter().enumerate() {
-            // A sum of huge values can overflow; such a row is left as it is.
-            if d.is_finite() {
-                t.push(i, i, Quat::from_real(d))
-                    .expect("in range and finite");
-            } else {
-                dominated = false;
-            }
-        }
-    }
+    push_entries(u, &mut t, n, 24, hermitise, &mut moderate)?;
+    let dominated =
+        hermitise && nrows == ncols && u.ratio(dominant, 4)? && make_dominant(&mut t, n);
     let mut m = t.to_csc();
     let mut untouched = true;
     if m.nnz() > 0 && u.ratio(1, 8)? {

@@ -266,23 +266,18 @@ pub fn axpy_two_then_inner_two<T: Scalar<Real = f64>>(
     #[cfg(target_arch = "x86_64")]
     if quaternion_kernels::<T>() {
         let (mc, md) = (unit_products(c[0]), unit_products(c[1]));
+        let step = quaternion::PairStep {
+            columns: v.map(T::as_reals),
+            factors: [&mc, &md],
+            next: next.map(T::as_reals),
+        };
         let kernel = if crate::simd::has_avx512vl() {
             quaternion::multiply_add_two_then_inner_two_wide
         } else {
             quaternion::multiply_add_two_then_inner_two
         };
         // SAFETY: as in `axpy_two` (and AVX-512VL for the wide kernel).
-        let (a, b) = unsafe {
-            kernel(
-                T::as_reals_mut(w),
-                T::as_reals(v[0]),
-                T::as_reals(v[1]),
-                &mc,
-                &md,
-                T::as_reals(next[0]),
-                T::as_reals(next[1]),
-            )
-        };
+        let [a, b] = unsafe { kernel(T::as_reals_mut(w), &step) };
         return [from_components(a), from_components(b)];
     }
     let rows = c.map(unit_products);

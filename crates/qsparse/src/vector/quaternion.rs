@@ -179,46 +179,45 @@ fn store_combined(s: [__m256d; 4]) -> [f64; 4] {
     q
 }
 
-/// `wᵣ ← wᵣ + vᵣ c + uᵣ d` (with `mc[κ] = e_κ c`, `md[κ] = e_κ d`), then the inner products
-/// of `next` and `after` with the new `w`, combined in registers: two columns of a modified
-/// Gram–Schmidt sweep per read and write of `w`.
-///
-/// # Safety
-/// See the module documentation.
-#[allow(clippy::too_many_arguments)]
-#[target_feature(enable = "avx2,fma")]
-pub(super) unsafe fn multiply_add_two_then_inner_two(
-    w: &mut [f64],
-    v: &[f64],
-    u: &[f64],
-    mc: &Outer,
-    md: &Outer,
-    next: &[f64],
-    after: &[f64],
-) -> ([f64; 4], [f64; 4]) {
-    // SAFETY: the caller guarantees the contract.
-    unsafe { pair_step(w, v, u, mc, md, next, after) }
+/// What a step of a Gram–Schmidt sweep over a pair of columns reads besides `w`: the two
+/// columns it updates by, the columns `e_κ c` of their right factors, and the next two
+/// columns, whose inner products with the updated `w` it returns.
+pub(super) struct PairStep<'a> {
+    pub(super) columns: [&'a [f64]; 2],
+    pub(super) factors: [&'a Outer; 2],
+    pub(super) next: [&'a [f64]; 2],
 }
 
-/// [`multiply_add_two_then_inner_two`] compiled for AVX-512VL as well: the same 256-bit
-/// operations, with 32 vector registers instead of 16, enough for the eight constant columns
-/// and the eight accumulators of a pair without spilling.
-///
-/// # Safety
-/// See the module documentation; AVX-512F and AVX-512VL are available too.
-#[allow(clippy::too_many_arguments)]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-pub(super) unsafe fn multiply_add_two_then_inner_two_wide(
-    w: &mut [f64],
-    v: &[f64],
-    u: &[f64],
-    mc: &Outer,
-    md: &Outer,
-    next: &[f64],
-    after: &[f64],
-) -> ([f64; 4], [f64; 4]) {
-    // SAFETY: the caller guarantees the contract.
-    unsafe { pair_step(w, v, u, mc, md, next, after) }
+/// Defines a compilation of [`pair_step`] for the given target features.
+macro_rules! pair_step_compiled_for {
+    ($(#[$attribute:meta])* $name:ident, $features:literal) => {
+        $(#[$attribute])*
+        #[target_feature(enable = $features)]
+        pub(super) unsafe fn $name(w: &mut [f64], step: &PairStep<'_>) -> [[f64; 4]; 2] {
+            // SAFETY: the caller guarantees the contract.
+            unsafe { pair_step(w, step) }
+        }
+    };
+}
+
+pair_step_compiled_for! {
+    /// `wᵣ ← wᵣ + vᵣ c + uᵣ d` (`v, u` the step's columns, `c, d` their factors), then the
+    /// inner products of the step's next two columns with the new `w`, combined in
+    /// registers: two columns of a modified Gram–Schmidt sweep per read and write of `w`.
+    ///
+    /// # Safety
+    /// See the module documentation.
+    multiply_add_two_then_inner_two, "avx2,fma"
+}
+
+pair_step_compiled_for! {
+    /// [`multiply_add_two_then_inner_two`] compiled for AVX-512VL as well: the same 256-bit
+    /// operations, with 32 vector registers instead of 16, enough for the eight constant
+    /// columns and the eight accumulators of a pair without spilling.
+    ///
+    /// # Safety
+    /// See the module documentation; AVX-512F and AVX-512VL are available too.
+    multiply_add_two_then_inner_two_wide, "avx2,fma,avx512f,avx512vl"
 }
 
 /// The body of [`multiply_add_two_then_inner_two`], inlined into each of its compilations.
@@ -226,15 +225,12 @@ pub(super) unsafe fn multiply_add_two_then_inner_two_wide(
 /// # Safety
 /// AVX2 and FMA; see the module documentation.
 #[inline(always)]
-unsafe fn pair_step(
-    w: &mut [f64],
-    v: &[f64],
-    u: &[f64],
-    mc: &Outer,
-    md: &Outer,
-    next: &[f64],
-    after: &[f64],
-) -> ([f64; 4], [f64; 4]) {
+unsafe fn pair_step(w: &mut [f64], step: &PairStep<'_>) -> [[f64; 4]; 2] {
+    let PairStep {
+        columns: [v, u],
+        factors: [mc, md],
+        next: [next, after],
+    } = *step;
     let (cc, cd) = (load_columns(mc), load_columns(md));
     // SAFETY: the caller guarantees the features.
     let mut s = [unsafe { _mm256_setzero_pd() }; 4];
@@ -259,7 +255,7 @@ unsafe fn pair_step(
             accumulate_outer(&mut t, ar, updated);
         }
     }
-    (store_combined(s), store_combined(t))
+    [store_combined(s), store_combined(t)]
 }
 
 #[cfg(test)]
@@ -284,14 +280,17 @@ mod tests {
             let (mc, md) = ([[0.5, -1.0, 0.25, 2.0]; 4], [[1.5, 0.0, -0.75, 0.125]; 4]);
             let (mut narrow, mut wide) = (vector(len), Vec::new());
             wide.clone_from(&narrow);
+            let step = PairStep {
+                columns: [&v, &u],
+                factors: [&mc, &md],
+                next: [&next, &after],
+            };
             // SAFETY: AVX2, FMA and AVX-512VL are available (checked above); lengths are
             // equal multiples of four.
             let (a, b) = unsafe {
                 (
-                    multiply_add_two_then_inner_two(&mut narrow, &v, &u, &mc, &md, &next, &after),
-                    multiply_add_two_then_inner_two_wide(
-                        &mut wide, &v, &u, &mc, &md, &next, &after,
-                    ),
+                    multiply_add_two_then_inner_two(&mut narrow, &step),
+                    multiply_add_two_then_inner_two_wide(&mut wide, &step),
                 )
             };
             assert_eq!(a, b, "coefficients, length {len}");
