@@ -25,6 +25,7 @@ use qsparse::vector;
 
 use crate::EigError;
 use crate::error::{DenseEigenError, EmbeddedFactorizationError};
+use crate::scaling;
 
 /// Eigenvalues (ascending) and eigenvectors (columns) of a dense Hermitian matrix or pencil.
 #[derive(Debug, Clone)]
@@ -85,11 +86,23 @@ where
 /// All eigenpairs `A xᵢ = xᵢ λᵢ` of a dense Hermitian matrix (only the lower triangle is
 /// read; the upper one is taken to be its conjugate transpose). Eigenvalues ascending,
 /// eigenvectors orthonormal.
+///
+/// A matrix whose largest component is outside `2^±100` is solved as a copy scaled by a
+/// power of two and its eigenvalues scaled back (exact), so that no norm of the reduction
+/// overflows or underflows (at `1e−200` the off-diagonal entries vanished from the norms and
+/// the diagonal came back as the eigenvalues).
 pub fn hermitian_eigen<T: Scalar<Real = f64>>(
     a: &DenseMatrix<T>,
 ) -> Result<DenseEigen<T>, EigError<T>> {
     check_square(a, "A")?;
     let n = a.nrows();
+    let factor = scaling::unit_range_factor(T::as_reals(a.as_slice()), false);
+    if factor != 1.0 {
+        let scaled = DenseMatrix::from_fn(n, n, |i, j| a[(i, j)].scale(factor));
+        let mut eigen = hermitian_eigen(&scaled)?;
+        eigen.values.iter_mut().for_each(|v| *v /= factor);
+        return Ok(eigen);
+    }
     // Work on a full Hermitian copy built from the lower triangle.
     let mut h = DenseMatrix::from_fn(n, n, |i, j| {
         if i > j {
@@ -185,6 +198,22 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
             expected: s.nrows(),
             found: k.nrows(),
             context: "rows of K against S",
+        });
+    }
+    // Far from unit size: `(a K) x' = μ' (b S) x'` with powers of two, `μ = μ' b / a` and
+    // `x = x' √b` (`b` a power of four), as in `hermitian_eigen`.
+    let (a, b) = (
+        scaling::unit_range_factor(T::as_reals(k.as_slice()), false),
+        scaling::unit_range_factor(T::as_reals(s.as_slice()), true),
+    );
+    if (a, b) != (1.0, 1.0) {
+        let scaled = |m: &DenseMatrix<T>, f: f64| {
+            DenseMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)].scale(f))
+        };
+        let eigen = generalized_hermitian_eigen(&scaled(k, a), &scaled(s, b))?;
+        return Ok(DenseEigen {
+            values: eigen.values.iter().map(|v| v * (b / a)).collect(),
+            vectors: scaled(&eigen.vectors, b.sqrt()),
         });
     }
     let es = hermitian_eigen(s)?;

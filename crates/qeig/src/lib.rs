@@ -50,6 +50,7 @@ pub mod lanczos;
 mod memory;
 mod pencil;
 mod result;
+mod scaling;
 
 pub use backend::{
     Backend, ComplexAdjoint, ComplexAdjointOperator, Factor, FactoredPencil, FaerCholesky, MatVec,

@@ -25,6 +25,7 @@ use crate::backend::{MatVec, VECTORS_PER_PASS};
 use crate::basis::Basis;
 use crate::dense::hermitian_eigen;
 use crate::lanczos::{ROUNDING, run, validate_options};
+use crate::scaling;
 use crate::{
     Backend, EigError, Eigen, HermitianOperator, LanczosOptions, PencilOperator, ProgressCallback,
     Which,
@@ -69,28 +70,10 @@ struct Scaling {
 }
 
 impl Scaling {
-    /// Largest component magnitude, as a binary exponent, below which and above which (in
-    /// absolute value) a matrix is scaled.
-    const SAFE_EXPONENT: i32 = 100;
-
     /// The power of two (of four if `even`) that brings the largest component of `m` into
-    /// `[½, 1)`, or `1` if it is zero or already within `2^±SAFE_EXPONENT`.
+    /// `[½, 1)`, or `1` when it is already within `2^±100` ([`scaling`]).
     fn of<T: Scalar<Real = f64>>(m: &SparseMatrix<T>, even: bool) -> f64 {
-        let largest = T::as_reals(m.values())
-            .iter()
-            .fold(0.0f64, |l, v| l.max(v.abs()));
-        if largest == 0.0 {
-            return 1.0;
-        }
-        // largest = f · 2^e with f in [½, 1).
-        let e = largest.log2().floor() as i32 + 1;
-        if e.abs() <= Self::SAFE_EXPONENT {
-            return 1.0;
-        }
-        let e = if even { e + e.rem_euclid(2) } else { e };
-        // In two halves: 2^±1074 itself is out of range.
-        let half = 2f64.powi(-e / 2);
-        half * 2f64.powi(-e + e / 2)
+        scaling::unit_range_factor(T::as_reals(m.values()), even)
     }
 
     /// The copy `factor · m`, or `m` itself when `factor` is `1`.

@@ -146,3 +146,46 @@ fn an_s_spanning_the_floating_point_range_is_never_a_nan_success() {
         Err(e) => panic!("{e}"),
     }
 }
+
+/// The tridiagonal `[[2, 1, 0], [1, 3, 1], [0, 1, 4]]` (eigenvalues `3 − √3, 3, 3 + √3`) times
+/// a scale, in quaternions.
+fn tridiagonal(scale: f64) -> qsparse::DenseMatrix<Q> {
+    let entries = [[2.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 4.0]];
+    qsparse::DenseMatrix::from_fn(3, 3, |i, j| Q::from_real(entries[i][j] * scale))
+}
+
+const TRIDIAGONAL: [f64; 3] = [
+    3.0 - 1.732_050_807_568_877_2,
+    3.0,
+    3.0 + 1.732_050_807_568_877_2,
+];
+
+/// The dense solvers at `1e±200`: the closed-form eigenvalues, scaled (at `1e−200` the
+/// diagonal came back as the eigenvalues, at `1e200` the solver reported no convergence).
+#[test]
+fn dense_solvers_at_any_scale() {
+    for scale in [1e-200, 1e-120, 1e120, 1e200] {
+        let eigen = qeig::dense::hermitian_eigen(&tridiagonal(scale)).unwrap();
+        for (v, expected) in eigen.values.iter().zip(TRIDIAGONAL) {
+            assert!(
+                (v / scale - expected).abs() < 1e-12,
+                "{scale:e}: {:?}",
+                eigen.values
+            );
+        }
+    }
+    // K = 1e150 T, S = 1e−150 I: μ = 1e300 λ, eigenvectors of norm 1e75 (xᴴ S x = 1).
+    let s =
+        qsparse::DenseMatrix::from_fn(3, 3, |i, j| Q::from_real(if i == j { 1e-150 } else { 0.0 }));
+    let eigen = qeig::dense::generalized_hermitian_eigen(&tridiagonal(1e150), &s).unwrap();
+    for (v, expected) in eigen.values.iter().zip(TRIDIAGONAL) {
+        assert!((v / 1e300 - expected).abs() < 1e-12, "{:?}", eigen.values);
+    }
+    for j in 0..3 {
+        let norm = (0..3)
+            .map(|i| eigen.vectors[(i, j)].scale(1e-75).abs2())
+            .sum::<f64>()
+            .sqrt();
+        assert!((norm - 1.0).abs() < 1e-12, "‖x‖ = {norm} · 1e75");
+    }
+}
