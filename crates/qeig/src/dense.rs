@@ -83,6 +83,11 @@ where
     Ok(())
 }
 
+/// The copy `factor · m`.
+fn scaled<T: Scalar<Real = f64>>(m: &DenseMatrix<T>, factor: f64) -> DenseMatrix<T> {
+    DenseMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)].scale(factor))
+}
+
 /// All eigenpairs `A xᵢ = xᵢ λᵢ` of a dense Hermitian matrix (only the lower triangle is
 /// read; the upper one is taken to be its conjugate transpose). Eigenvalues ascending,
 /// eigenvectors orthonormal.
@@ -98,8 +103,7 @@ pub fn hermitian_eigen<T: Scalar<Real = f64>>(
     let n = a.nrows();
     let factor = scaling::unit_range_factor(T::as_reals(a.as_slice()), false);
     if factor != 1.0 {
-        let scaled = DenseMatrix::from_fn(n, n, |i, j| a[(i, j)].scale(factor));
-        let mut eigen = hermitian_eigen(&scaled)?;
+        let mut eigen = hermitian_eigen(&scaled(a, factor))?;
         eigen.values.iter_mut().for_each(|v| *v /= factor);
         return Ok(eigen);
     }
@@ -207,9 +211,6 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
         scaling::unit_range_factor(T::as_reals(s.as_slice()), true),
     );
     if (a, b) != (1.0, 1.0) {
-        let scaled = |m: &DenseMatrix<T>, f: f64| {
-            DenseMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)].scale(f))
-        };
         let eigen = generalized_hermitian_eigen(&scaled(k, a), &scaled(s, b))?;
         return Ok(DenseEigen {
             values: eigen.values.iter().map(|v| v * (b / a)).collect(),

@@ -303,24 +303,22 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             options.which,
             options.tolerance,
         )?;
+        // Back from the scaled pencil (exact: powers of two).
+        let Scaling { a, b } = self.scaling;
+        for p in &mut pairs {
+            p.value *= b / a;
+            if b != 1.0 {
+                vector::scale(&mut p.vector, b.sqrt());
+            }
+        }
         // A pencil whose entries span more than the floating-point range (an `S` with
         // diagonal entries 1 and 1e180) can overflow inside the fold: such a pair has not
         // converged, whatever the Lanczos estimate said.
-        // Back from the scaled pencil (exact: powers of two).
-        let Scaling { a, b } = self.scaling;
-        pairs.retain(|p| (p.value * (b / a)).is_finite() && p.vector.iter().all(|v| v.is_finite()));
+        pairs.retain(|p| p.value.is_finite() && p.vector.iter().all(|v| v.is_finite()));
         pairs.truncate(options.k);
-        let values = pairs.iter().map(|p| p.value * (b / a)).collect();
+        let values = pairs.iter().map(|p| p.value).collect();
         let residuals = pairs.iter().map(|p| p.residual).collect();
-        let vectors = (pairs.into_iter())
-            .map(|p| {
-                let mut x = p.vector;
-                if b != 1.0 {
-                    vector::scale(&mut x, b.sqrt());
-                }
-                x
-            })
-            .collect();
+        let vectors = pairs.into_iter().map(|p| p.vector).collect();
         let mut statistics = outcome.statistics;
         (statistics.solves, statistics.solve_time) = op.solve_statistics();
         statistics.factorization_time = factorization_time;

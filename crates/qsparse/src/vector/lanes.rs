@@ -1,7 +1,8 @@
 //! Kernels over the real component layout of `f64`, `Complex<f64>` and `Quat<f64>` vectors
 //! (`R = REAL_DIM` reals per entry), spread over eight independent lanes so that a long sweep
 //! is bound by memory rather than by the latency of one accumulation chain: the inner product
-//! of [`super::inner_long`] and, for `R ≤ 2`, the fused update of [`super::axpy_two_then_inner_two`].
+//! of [`super::inner_long`] and the fused pair update of [`super::axpy_two_then_inner_two`]
+//! (all scalars but AVX2 quaternions).
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
