@@ -88,6 +88,22 @@ fn scaled<T: Scalar<Real = f64>>(m: &DenseMatrix<T>, factor: f64) -> DenseMatrix
     DenseMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)].scale(factor))
 }
 
+/// The Hermitian matrix the lower triangle of the square `a` defines: `aᵢⱼ` below the
+/// diagonal, its conjugate above, the real parts on the diagonal. This, not `a`, is what the
+/// solvers read, so that the unread entries (the upper triangle, the imaginary parts of the
+/// diagonal) can neither change a result nor set the scale of its computation.
+fn lower_hermitian<T: Scalar<Real = f64>>(a: &DenseMatrix<T>) -> DenseMatrix<T> {
+    DenseMatrix::from_fn(a.nrows(), a.nrows(), |i, j| {
+        if i > j {
+            a[(i, j)]
+        } else if i < j {
+            a[(j, i)].conj()
+        } else {
+            T::from_real(a[(i, i)].re())
+        }
+    })
+}
+
 /// All eigenpairs `A xᵢ = xᵢ λᵢ` of a dense Hermitian matrix (only the lower triangle is
 /// read; the upper one is taken to be its conjugate transpose). Eigenvalues ascending,
 /// eigenvectors orthonormal.
@@ -100,44 +116,72 @@ pub fn hermitian_eigen<T: Scalar<Real = f64>>(
     a: &DenseMatrix<T>,
 ) -> Result<DenseEigen<T>, EigError<T>> {
     check_square(a, "A")?;
-    let n = a.nrows();
-    let factor = scaling::unit_range_factor(T::as_reals(a.as_slice()), false);
+    Ok(full_hermitian_eigen(lower_hermitian(a))?)
+}
+
+/// [`hermitian_eigen`] of a full Hermitian matrix `h` (both triangles consistent), scaled
+/// into the unit range first when it is far from it.
+fn full_hermitian_eigen<T: Scalar<Real = f64>>(
+    mut h: DenseMatrix<T>,
+) -> Result<DenseEigen<T>, DenseEigenError> {
+    let factor = scaling::unit_range_factor(T::as_reals(h.as_slice()), false);
     if factor != 1.0 {
-        let mut eigen = hermitian_eigen(&scaled(a, factor))?;
-        eigen.values.iter_mut().for_each(|v| *v /= factor);
-        return Ok(eigen);
+        h = scaled(&h, factor);
     }
-    // Work on a full Hermitian copy built from the lower triangle.
-    let mut h = DenseMatrix::from_fn(n, n, |i, j| {
-        if i > j {
-            a[(i, j)]
-        } else if i < j {
-            a[(j, i)].conj()
-        } else {
-            T::from_real(a[(i, i)].re())
-        }
-    });
+    let mut eigen = tridiagonal_eigen(h)?;
+    eigen.values.iter_mut().for_each(|v| *v /= factor);
+    Ok(eigen)
+}
+
+/// `(x/|x|, |x|)` (`(1, 0)` for `x = 0`), with `x` divided by its largest component before
+/// the squares are taken: a component of 1e−160 squared underflows, and the phase of the
+/// reflector, off unit length, made the eigenvectors non-orthogonal by 1e−5 (found by the
+/// `dense_eigen` fuzz target).
+fn polar<T: Scalar<Real = f64>>(x: T) -> (T, f64) {
+    let mut y = [x];
+    let reals = T::as_reals_mut(&mut y);
+    let largest = reals.iter().fold(0.0f64, |l, c| l.max(c.abs()));
+    if largest == 0.0 {
+        return (T::one(), 0.0);
+    }
+    reals.iter_mut().for_each(|c| *c /= largest);
+    let norm = y[0].abs();
+    (y[0].scale(1.0 / norm), largest * norm)
+}
+
+/// Largest component below which a column below the diagonal is taken as zero instead of
+/// reflected: the squares of such components underflow, so its norm would be inexact (and
+/// `τ` overflow), and against the matrix — whose largest component is at least `2⁻¹⁰⁰`
+/// after [`full_hermitian_eigen`]'s scaling — they are below `10⁻¹¹⁹` of it, far below
+/// rounding.
+const NEGLIGIBLE: f64 = 1e-150;
+
+/// The Householder reduction of the full Hermitian `h` to a real tridiagonal matrix, its
+/// eigenpairs, and the eigenvectors carried back (module documentation).
+fn tridiagonal_eigen<T: Scalar<Real = f64>>(
+    mut h: DenseMatrix<T>,
+) -> Result<DenseEigen<T>, DenseEigenError> {
+    let n = h.nrows();
     let mut reflectors: Vec<(Vec<T>, f64)> = Vec::with_capacity(n.saturating_sub(1));
     let mut sub = vec![T::zero(); n.saturating_sub(1)];
     let mut p = vec![T::zero(); n];
     for k in 0..n.saturating_sub(1) {
         let m = n - k - 1;
         let mut v: Vec<T> = (0..m).map(|i| h[(k + 1 + i, k)]).collect();
-        let norm_x = vector::norm(&v);
-        if norm_x == 0.0 {
+        let largest = (T::as_reals(&v).iter()).fold(0.0f64, |l, c| l.max(c.abs()));
+        if largest < NEGLIGIBLE {
             reflectors.push((v, 0.0));
             continue;
         }
-        let x0 = v[0];
-        let a0 = x0.abs();
-        let phase = if a0 > 0.0 {
-            x0.scale(1.0 / a0)
-        } else {
-            T::one()
-        };
+        let norm_x = vector::norm(&v);
+        let (phase, a0) = polar(v[0]);
         let alpha = -phase.scale(norm_x);
         v[0] -= alpha;
-        let tau = 2.0 / (2.0 * norm_x * norm_x + 2.0 * norm_x * a0);
+        // `v` divided by `‖x‖`: entries of order 1 and `τ = 2/‖v‖² = 1/(1 + |x₁|/‖x‖)` in
+        // `[½, 1]` (`‖x − e₁α‖² = 2‖x‖² + 2‖x‖|x₁|`), where `2/‖x − e₁α‖²` overflowed for a
+        // column of norm 1e−160.
+        vector::scale(&mut v, 1.0 / norm_x);
+        let tau = 1.0 / (1.0 + a0 / norm_x);
         sub[k] = alpha;
         // p = τ A₂₂ v, γ = τ Re(vᴴ p), w = p − v γ/2, A₂₂ ← A₂₂ − v wᴴ − w vᴴ.
         let p = &mut p[..m];
@@ -204,20 +248,15 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
             context: "rows of K against S",
         });
     }
-    // Far from unit size: `(a K) x' = μ' (b S) x'` with powers of two, `μ = μ' b / a` and
-    // `x = x' √b` (`b` a power of four), as in `hermitian_eigen`.
+    // The matrices as read; far from unit size, `(a K) x' = μ' (b S) x'` with powers of two,
+    // `μ = μ' b / a` and `x = x' √b` (`b` a power of four), as in `hermitian_eigen`.
+    let (k, s) = (lower_hermitian(k), lower_hermitian(s));
     let (a, b) = (
         scaling::unit_range_factor(T::as_reals(k.as_slice()), false),
         scaling::unit_range_factor(T::as_reals(s.as_slice()), true),
     );
-    if (a, b) != (1.0, 1.0) {
-        let eigen = generalized_hermitian_eigen(&scaled(k, a), &scaled(s, b))?;
-        return Ok(DenseEigen {
-            values: eigen.values.iter().map(|v| v * (b / a)).collect(),
-            vectors: scaled(&eigen.vectors, b.sqrt()),
-        });
-    }
-    let es = hermitian_eigen(s)?;
+    let (k, s) = (scaled(&k, a), scaled(&s, b));
+    let es = full_hermitian_eigen(s)?;
     let scale = es.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     if let Some(i) = es
         .values
@@ -227,30 +266,27 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
         return Err(EigError::EmbeddedFactorization(
             EmbeddedFactorizationError::NonPositiveEigenvalue {
                 index: i,
-                value: es.values[i],
+                value: es.values[i] / b,
             },
         ));
     }
-    let n = s.nrows();
+    let n = k.nrows();
     let w = DenseMatrix::from_fn(n, n, |i, j| {
         es.vectors[(i, j)].scale(es.values[j].powf(-0.5))
     });
-    let full_k = DenseMatrix::from_fn(
-        n,
-        n,
-        |i, j| {
-            if i >= j { k[(i, j)] } else { k[(j, i)].conj() }
-        },
-    );
-    let b = w
+    let projected = w
         .adjoint()
-        .matmul(&full_k)
+        .matmul(&k)
         .and_then(|kw| kw.matmul(&w))
         .expect("square factors of equal size");
-    let eb = hermitian_eigen(&b)?;
-    let vectors = w.matmul(&eb.vectors).expect("square factors of equal size");
+    // Hermitian up to rounding: its lower triangle is what the solver reads.
+    let eigen = full_hermitian_eigen(lower_hermitian(&projected))?;
+    let vectors = w
+        .matmul(&eigen.vectors)
+        .expect("square factors of equal size");
     Ok(DenseEigen {
-        values: eb.values,
-        vectors,
+        // In this order: `b / a` alone can overflow, and `0 · ∞` is NaN.
+        values: eigen.values.iter().map(|v| v * b / a).collect(),
+        vectors: scaled(&vectors, b.sqrt()),
     })
 }

@@ -306,7 +306,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         // Back from the scaled pencil (exact: powers of two).
         let Scaling { a, b } = self.scaling;
         for p in &mut pairs {
-            p.value *= b / a;
+            // In this order: `b / a` alone can overflow (`2¹⁰²²/2⁻¹⁰²²`), and `0 · ∞` is NaN.
+            p.value = p.value * b / a;
             if b != 1.0 {
                 vector::scale(&mut p.vector, b.sqrt());
             }

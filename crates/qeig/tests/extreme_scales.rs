@@ -189,3 +189,102 @@ fn dense_solvers_at_any_scale() {
         assert!((norm - 1.0).abs() < 1e-12, "‖x‖ = {norm} · 1e75");
     }
 }
+
+/// The dense solvers read the lower triangles and the real parts of the diagonals only: huge
+/// values elsewhere change nothing, bit for bit. They used to set the scale of the
+/// computation, and with a diagonal of `S` whose real part was subnormal behind an imaginary
+/// part of 0.7 (found by the `dense_eigen` fuzz target) the projected matrix overflowed and
+/// the solver reported a non-finite matrix `A` the caller never passed.
+#[test]
+fn dense_solvers_ignore_what_they_do_not_read() {
+    let garbage = |m: &qsparse::DenseMatrix<Q>, value: f64| {
+        qsparse::DenseMatrix::from_fn(3, 3, |i, j| {
+            let mut q = m[(i, j)];
+            if i < j {
+                q = Q::new(value, -value, value, value);
+            } else if i == j {
+                q.x = value;
+                q.z = -value;
+            }
+            q
+        })
+    };
+    let k = tridiagonal(1.0);
+    let s = qsparse::DenseMatrix::from_fn(3, 3, |i, j| {
+        Q::from_real(if i == j { 2.0 + i as f64 } else { 0.0 })
+    });
+    let clean = qeig::dense::hermitian_eigen(&k).unwrap();
+    let pencil = qeig::dense::generalized_hermitian_eigen(&k, &s).unwrap();
+    for value in [1e250, 1e-250, 0.7] {
+        let dirty = qeig::dense::hermitian_eigen(&garbage(&k, value)).unwrap();
+        assert_eq!(dirty.values, clean.values, "{value:e}");
+        assert_eq!(
+            dirty.vectors.as_slice(),
+            clean.vectors.as_slice(),
+            "{value:e}"
+        );
+        let dirty =
+            qeig::dense::generalized_hermitian_eigen(&garbage(&k, value), &garbage(&s, value))
+                .unwrap();
+        assert_eq!(dirty.values, pencil.values, "{value:e}");
+        assert_eq!(
+            dirty.vectors.as_slice(),
+            pencil.vectors.as_slice(),
+            "{value:e}"
+        );
+    }
+    // The fuzzer's case: S = [2⁻¹⁰⁶⁰ + 0.7 i] (a subnormal real part), K = [2⁻⁴⁰]: μ = 2¹⁰²⁰.
+    let s = qsparse::DenseMatrix::from_fn(1, 1, |_, _| Q::new(2f64.powi(-1060), 0.7, 0.0, 0.0));
+    let k = qsparse::DenseMatrix::from_fn(1, 1, |_, _| Q::from_real(2f64.powi(-40)));
+    let eigen = qeig::dense::generalized_hermitian_eigen(&k, &s).unwrap();
+    assert_eq!(eigen.values, [2f64.powi(1020)]);
+}
+
+/// Columns far below the matrix's scale (found by the `dense_eigen` fuzz target): a first
+/// column with components of 1e−160 next to one of 0.5 (its phase, from underflowing
+/// squares, was off unit length: eigenvectors orthogonal only to 5e−5), and a second column
+/// of norm 1e−160 below a first one already reduced (whose reflector's `τ` overflowed: NaN
+/// eigenvectors, and the solver failed).
+#[test]
+fn dense_solver_with_columns_far_below_the_scale() {
+    let tiny = 3.6e-160;
+    let cases = [
+        [
+            Q::new(1.6e-180, -tiny, -tiny, -tiny),
+            Q::new(-tiny, -7.7e-179, -0.5, 0.0),
+            Q::new(1e-176, 1e-176, 1e-176, 1e-176),
+        ],
+        [
+            Q::new(0.75, 0.0, 0.5, 0.0),
+            Q::default(),
+            Q::new(tiny, tiny, 0.0, -tiny),
+        ],
+    ];
+    for [a10, a20, a21] in cases {
+        let a = qsparse::DenseMatrix::from_fn(3, 3, |i, j| match (i, j) {
+            (1, 0) => a10,
+            (2, 0) => a20,
+            (2, 1) => a21,
+            (0, 1) => a10.conj(),
+            (0, 2) => a20.conj(),
+            (1, 2) => a21.conj(),
+            (1, 1) => Q::from_real(0.25),
+            _ => Q::default(),
+        });
+        let eigen = qeig::dense::hermitian_eigen(&a).unwrap();
+        let x = &eigen.vectors;
+        let gram = x.adjoint().matmul(x).unwrap();
+        let ax = a.matmul(x).unwrap();
+        for i in 0..3 {
+            for j in 0..3 {
+                let expected = if i == j { 1.0 } else { 0.0 };
+                assert!(
+                    (gram[(i, j)] - Q::from_real(expected)).abs() < 1e-14,
+                    "XᴴX ({i}, {j})"
+                );
+                let r = ax[(i, j)] - x[(i, j)].scale(eigen.values[j]);
+                assert!(r.abs() < 1e-14, "residual ({i}, {j}): {:e}", r.abs());
+            }
+        }
+    }
+}
