@@ -38,7 +38,8 @@ class Spectrum:
     """The ``k`` eigenpairs of smallest ``|λ|`` of an operator on a mesh.
 
     Attributes:
-        eigenvalues: ``(k,)`` signed, sorted by ``|λ|`` (then ``λ``), each as often as its
+        eigenvalues: ``(k,)`` signed, sorted by ``|λ|``, then by ``λ`` among magnitudes equal
+            to within ``max(100 tol, 1e-8)`` relative (``−a`` before ``a``), each as often as its
             quaternionic multiplicity.
         eigenvectors: ``(n, k, 4)``: ``eigenvectors[p, i]`` is ``(w, x, y, z)`` of ``φ_i`` at vertex
             ``p``; mass-orthonormal (``Σ_p mass[p] conj(φ_i(p)) φ_j(p) = δ_ij``) in canonical

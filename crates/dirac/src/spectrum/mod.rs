@@ -46,8 +46,9 @@
 //! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
 //! with a mass-orthonormal basis (constants first, then `δ_p / √Ā_p`).
 //!
-//! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|` (then by `λ`),
-//! each as often as its multiplicity; eigenvectors of unit mass norm `Σ_p Ā_p |φ_p|² = 1`,
+//! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, then by `λ`
+//! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`, whatever
+//! the last bits of the two), each as often as its multiplicity; eigenvectors of unit mass norm `Σ_p Ā_p |φ_p|² = 1`,
 //! mass-orthonormal within each eigenspace, in canonical phase ([`crate::phase`]), and
 //! mass-orthogonal to the kernel except on coupled pieces. A pair counts as converged when the
 //! relative residual of the operator's own eigenproblem (matrices as assembled, dual and mass
@@ -1079,7 +1080,42 @@ fn singular_error<T>(
     }
 }
 
-/// Sorts by `|λ|`, keeps `k`, mass-orthonormalises within eigenspaces, applies the canonical
+/// Relative difference below which two magnitudes `|λ|` count as equal when ordering: that
+/// of the pencil's fold ([`qeig::Pencil`]), `max(100 tol, 10⁻⁸)`, below which a computed
+/// eigenvalue is not determined anyway.
+fn equal_magnitudes(tolerance: f64) -> f64 {
+    (100.0 * tolerance).max(1e-8)
+}
+
+/// The indices of `values` by increasing `|λ|`, then by increasing `λ` among magnitudes equal
+/// to within `relative` (consecutive magnitudes `a ≤ b` with `b − a ≤ relative · b` chain into
+/// one run, sorted by `λ`).
+///
+/// A pair `±a` of opposite eigenvalues (symmetric shapes, flat and man-made ones above all)
+/// is computed as `−a(1 + δ₁)` and `a(1 + δ₂)` with `δ` at rounding level, so sorting by `|λ|`
+/// alone put it in either order depending on the last bits, which change with the CPU's
+/// kernels and the solver's path; with the tie broken by sign the order is `−a, a` in every
+/// run.
+fn magnitude_order(values: &[f64], relative: f64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| values[a].abs().total_cmp(&values[b].abs()));
+    let mut start = 0;
+    while start < order.len() {
+        let mut end = start + 1;
+        while end < order.len() {
+            let (previous, next) = (values[order[end - 1]].abs(), values[order[end]].abs());
+            if next - previous > relative * next {
+                break;
+            }
+            end += 1;
+        }
+        order[start..end].sort_by(|&a, &b| values[a].total_cmp(&values[b]));
+        start = end;
+    }
+    order
+}
+
+/// Sorts by `|λ|` ([`magnitude_order`]), keeps `k`, mass-orthonormalises within eigenspaces, applies the canonical
 /// phase, measures residuals and splits off the pairs that are not converged; the eigenvectors
 /// leave as quaternions.
 fn finish<T: Scalar<Real = f64>>(
@@ -1091,10 +1127,7 @@ fn finish<T: Scalar<Real = f64>>(
     kernel: KernelSummary,
 ) -> Result<Spectrum, SpectrumError> {
     let values = &pairs.values;
-    let mut order: Vec<usize> = (0..values.len()).collect();
-    order.sort_by(|&a, &b| {
-        (values[a].abs().total_cmp(&values[b].abs())).then(values[a].total_cmp(&values[b]))
-    });
+    let mut order = magnitude_order(values, equal_magnitudes(options.tolerance));
     order.truncate(options.k);
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
     // Moved, not copied: at a million vertices each copy of k eigenvectors is gigabytes.
@@ -1246,4 +1279,63 @@ fn scaled_norm<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, masses: &[f64]) -> f6
         rows[p] += v.abs() / (masses[p] * masses[q]).sqrt();
     }
     rows.into_iter().fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn opposite_eigenvalues_equal_in_magnitude_come_negative_first() {
+        let a = 1.5e-4;
+        // `+a` computed a hair smaller in magnitude than `−a`, and the other way round.
+        for (plus, minus) in [(a * (1.0 - 1e-13), -a), (a, -a * (1.0 - 1e-13))] {
+            let values = [2.0, plus, -3.0, minus, 1e-3];
+            let sorted: Vec<f64> = (magnitude_order(&values, 1e-8).iter())
+                .map(|&i| values[i])
+                .collect();
+            assert_eq!(sorted, [minus, plus, 1e-3, 2.0, -3.0]);
+        }
+        // Magnitudes farther apart than the tie keep their order by magnitude.
+        let values = [-1.0 - 1e-6, 1.0];
+        assert_eq!(magnitude_order(&values, 1e-8), [1, 0]);
+    }
+
+    proptest! {
+        /// Any perturbation of a spectrum by rounding-level relative errors gives the same
+        /// order of its (well separated) eigenvalues, and the order is a permutation sorted
+        /// by magnitude up to ties.
+        #[test]
+        fn the_order_does_not_depend_on_the_last_bits(
+            magnitudes in prop::collection::vec(1e-6f64..1e3, 1..12),
+            signs in prop::collection::vec(any::<bool>(), 12),
+            noise in prop::collection::vec(-1e-13f64..1e-13, 24),
+        ) {
+            // Each magnitude as a ± pair or a single value: well separated, or a tie.
+            let mut exact = Vec::new();
+            for (i, &m) in magnitudes.iter().enumerate() {
+                let m = m * (1.0 + i as f64);
+                exact.push(if signs[i] { m } else { -m });
+                if signs[(i + 5) % 12] {
+                    exact.push(-exact[exact.len() - 1]);
+                }
+            }
+            let perturbed: Vec<f64> = (exact.iter().zip(&noise))
+                .map(|(v, e)| v * (1.0 + e))
+                .collect();
+            let order = magnitude_order(&perturbed, 1e-8);
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            prop_assert_eq!(seen, (0..exact.len()).collect::<Vec<_>>());
+            let signs_in_order = |values: &[f64]| -> Vec<bool> {
+                magnitude_order(values, 1e-8).iter().map(|&i| values[i] < 0.0).collect()
+            };
+            prop_assert_eq!(signs_in_order(&perturbed), signs_in_order(&exact));
+            for pair in order.windows(2) {
+                let (a, b) = (perturbed[pair[0]].abs(), perturbed[pair[1]].abs());
+                prop_assert!(a <= b * (1.0 + 1e-8), "{} before {}", a, b);
+            }
+        }
+    }
 }
