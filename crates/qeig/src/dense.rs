@@ -83,9 +83,14 @@ where
     Ok(())
 }
 
-/// The copy `factor · m`.
-fn scaled<T: Scalar<Real = f64>>(m: &DenseMatrix<T>, factor: f64) -> DenseMatrix<T> {
-    DenseMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)].scale(factor))
+/// `factor · m`, scaled in place (no copy when `factor` is 1).
+fn scaled<T: Scalar<Real = f64>>(mut m: DenseMatrix<T>, factor: f64) -> DenseMatrix<T> {
+    if factor != 1.0 {
+        m.as_mut_slice()
+            .iter_mut()
+            .for_each(|v| *v = v.scale(factor));
+    }
+    m
 }
 
 /// The Hermitian matrix the lower triangle of the square `a` defines: `aᵢⱼ` below the
@@ -122,13 +127,10 @@ pub fn hermitian_eigen<T: Scalar<Real = f64>>(
 /// [`hermitian_eigen`] of a full Hermitian matrix `h` (both triangles consistent), scaled
 /// into the unit range first when it is far from it.
 fn full_hermitian_eigen<T: Scalar<Real = f64>>(
-    mut h: DenseMatrix<T>,
+    h: DenseMatrix<T>,
 ) -> Result<DenseEigen<T>, DenseEigenError> {
     let factor = scaling::unit_range_factor(T::as_reals(h.as_slice()), false);
-    if factor != 1.0 {
-        h = scaled(&h, factor);
-    }
-    let mut eigen = tridiagonal_eigen(h)?;
+    let mut eigen = tridiagonal_eigen(scaled(h, factor))?;
     eigen.values.iter_mut().for_each(|v| *v /= factor);
     Ok(eigen)
 }
@@ -140,7 +142,7 @@ fn full_hermitian_eigen<T: Scalar<Real = f64>>(
 fn polar<T: Scalar<Real = f64>>(x: T) -> (T, f64) {
     let mut y = [x];
     let reals = T::as_reals_mut(&mut y);
-    let largest = reals.iter().fold(0.0f64, |l, c| l.max(c.abs()));
+    let largest = scaling::largest_magnitude(reals);
     if largest == 0.0 {
         return (T::one(), 0.0);
     }
@@ -168,8 +170,7 @@ fn tridiagonal_eigen<T: Scalar<Real = f64>>(
     for k in 0..n.saturating_sub(1) {
         let m = n - k - 1;
         let mut v: Vec<T> = (0..m).map(|i| h[(k + 1 + i, k)]).collect();
-        let largest = (T::as_reals(&v).iter()).fold(0.0f64, |l, c| l.max(c.abs()));
-        if largest < NEGLIGIBLE {
+        if scaling::largest_magnitude(T::as_reals(&v)) < NEGLIGIBLE {
             reflectors.push((v, 0.0));
             continue;
         }
@@ -255,9 +256,9 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
         scaling::unit_range_factor(T::as_reals(k.as_slice()), false),
         scaling::unit_range_factor(T::as_reals(s.as_slice()), true),
     );
-    let (k, s) = (scaled(&k, a), scaled(&s, b));
+    let (k, s) = (scaled(k, a), scaled(s, b));
     let es = full_hermitian_eigen(s)?;
-    let scale = es.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let scale = scaling::largest_magnitude(&es.values);
     if let Some(i) = es
         .values
         .iter()
@@ -287,6 +288,6 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
     Ok(DenseEigen {
         // In this order: `b / a` alone can overflow, and `0 · ∞` is NaN.
         values: eigen.values.iter().map(|v| v * b / a).collect(),
-        vectors: scaled(&vectors, b.sqrt()),
+        vectors: scaled(vectors, b.sqrt()),
     })
 }

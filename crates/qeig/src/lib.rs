@@ -59,7 +59,7 @@ pub use backend::{
 };
 pub use error::{BasisTooLarge, DenseEigenError, EigError, EmbeddedFactorizationError};
 pub use lanczos::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
-pub use pencil::Pencil;
+pub use pencil::{Pencil, relative_cluster_width};
 /// When the eigensolver may use a second thread (re-exported from `qsparse`).
 pub use qsparse::threads;
 pub use result::{Eigen, Progress, ProgressCallback, Statistics};

@@ -399,6 +399,14 @@ fn unit<T: Scalar<Real = f64>>(u: usize) -> T {
     e[0]
 }
 
+/// The relative distance within which two computed eigenvalues of a pencil solved to the
+/// relative tolerance `tolerance` count as copies of one eigenvalue: `max(100 tol, 10⁻⁸)`.
+/// The fold clusters by it (plus the rounding level of the operator), and callers that order
+/// eigenvalues use it to tell a tie from a difference.
+pub fn relative_cluster_width(tolerance: f64) -> f64 {
+    (100.0 * tolerance).max(1e-8)
+}
+
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
 /// returns them sorted by wantedness, with their residuals. `k(x)` is `K x`.
 fn fold<T: Scalar<Real = f64>>(
@@ -409,8 +417,8 @@ fn fold<T: Scalar<Real = f64>>(
     which: Which,
     tol: f64,
 ) -> Result<Vec<Folded<T>>, EigError<T>> {
-    let gap = (100.0 * tol).max(1e-8);
-    let floor = ROUNDING * values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let gap = relative_cluster_width(tol);
+    let floor = ROUNDING * scaling::largest_magnitude(values);
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let mut vectors: Vec<Option<Vec<T>>> = vectors.into_iter().map(Some).collect();

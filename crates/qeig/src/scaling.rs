@@ -8,11 +8,16 @@
 /// matrix is used as given.
 const SAFE_EXPONENT: i32 = 100;
 
+/// `maxᵢ |xᵢ|` (0 for an empty slice).
+pub(crate) fn largest_magnitude(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |l, v| l.max(v.abs()))
+}
+
 /// The power of two (of four if `even`, so that its square root is exact) that brings the
 /// largest of `reals` in magnitude into `[½, 1)`; `1` if they are all zero or the largest is
 /// within `2^±100` (any matrix of a mesh in reasonable units, which is then used unchanged).
 pub(crate) fn unit_range_factor(reals: &[f64], even: bool) -> f64 {
-    let largest = reals.iter().fold(0.0f64, |l, v| l.max(v.abs()));
+    let largest = largest_magnitude(reals);
     if largest == 0.0 || !largest.is_finite() {
         return 1.0;
     }

@@ -47,9 +47,9 @@
 //! with a mass-orthonormal basis (constants first, then `δ_p / √Ā_p`).
 //!
 //! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, then by `λ`
-//! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`, whatever
-//! the last bits of the two), each as often as its multiplicity; eigenvectors of unit mass norm `Σ_p Ā_p |φ_p|² = 1`,
-//! mass-orthonormal within each eigenspace, in canonical phase ([`crate::phase`]), and
+//! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`,
+//! whatever the last bits of the two), each as often as its multiplicity; eigenvectors of unit
+//! mass norm `Σ_p Ā_p |φ_p|² = 1`, mass-orthonormal within each eigenspace, in canonical phase ([`crate::phase`]), and
 //! mass-orthogonal to the kernel except on coupled pieces. A pair counts as converged when the
 //! relative residual of the operator's own eigenproblem (matrices as assembled, dual and mass
 //! norms) is at most [`CONVERGED_RESIDUAL_FACTOR`] times the tolerance, or when its normwise
@@ -1080,13 +1080,6 @@ fn singular_error<T>(
     }
 }
 
-/// Relative difference below which two magnitudes `|λ|` count as equal when ordering: that
-/// of the pencil's fold ([`qeig::Pencil`]), `max(100 tol, 10⁻⁸)`, below which a computed
-/// eigenvalue is not determined anyway.
-fn equal_magnitudes(tolerance: f64) -> f64 {
-    (100.0 * tolerance).max(1e-8)
-}
-
 /// The indices of `values` by increasing `|λ|`, then by increasing `λ` among magnitudes equal
 /// to within `relative` (consecutive magnitudes `a ≤ b` with `b − a ≤ relative · b` chain into
 /// one run, sorted by `λ`).
@@ -1115,9 +1108,10 @@ fn magnitude_order(values: &[f64], relative: f64) -> Vec<usize> {
     order
 }
 
-/// Sorts by `|λ|` ([`magnitude_order`]), keeps `k`, mass-orthonormalises within eigenspaces, applies the canonical
-/// phase, measures residuals and splits off the pairs that are not converged; the eigenvectors
-/// leave as quaternions.
+/// Sorts by `|λ|` ([`magnitude_order`], ties within the pencil's cluster width
+/// [`qeig::relative_cluster_width`]), keeps `k`, mass-orthonormalises within eigenspaces,
+/// applies the canonical phase, measures residuals and splits off the pairs that are not
+/// converged; the eigenvectors leave as quaternions.
 fn finish<T: Scalar<Real = f64>>(
     pairs: Pairs<T>,
     operator: &Matrices<T>,
@@ -1127,7 +1121,7 @@ fn finish<T: Scalar<Real = f64>>(
     kernel: KernelSummary,
 ) -> Result<Spectrum, SpectrumError> {
     let values = &pairs.values;
-    let mut order = magnitude_order(values, equal_magnitudes(options.tolerance));
+    let mut order = magnitude_order(values, qeig::relative_cluster_width(options.tolerance));
     order.truncate(options.k);
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
     // Moved, not copied: at a million vertices each copy of k eigenvectors is gigabytes.
