@@ -197,9 +197,10 @@ fn run(u: &mut Unstructured) -> Result<()> {
                     eigen.values
                 );
                 // K x = μ S x ⇔ (K/a) x = (μ b/a) (S/b) x; the vectors are S-orthonormal, so
-                // √b x is (S/b)-orthonormal.
+                // √b x is (S/b)-orthonormal. `b/a` is normal by the guard above; `μ b` alone
+                // can overflow (μ = 1.5e254, b = 1.3e54).
                 let (kh, sh) = (hermitian_part(&k, k_scale), hermitian_part(&s.m, s_scale));
-                let values: Vec<f64> = eigen.values.iter().map(|v| v * s_scale / k_scale).collect();
+                let values: Vec<f64> = eigen.values.iter().map(|v| v * ratio.recip()).collect();
                 let x =
                     DenseMatrix::from_fn(n, n, |i, j| eigen.vectors[(i, j)].scale(s_scale.sqrt()));
                 let (residual, orthonormality) = defects(&kh, Some(&sh), &values, &x);
