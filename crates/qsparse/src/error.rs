@@ -82,7 +82,56 @@ pub enum CholeskyError {
         /// Found rows.
         found: usize,
     },
-    /// The symbolic analysis (ordering, elimination tree) failed, e.g. out of memory.
-    #[error("symbolic analysis failed: {0}")]
-    Symbolic(String),
+    /// faer's part of the symbolic analysis (the AMD ordering, the elimination tree and
+    /// supernodes) failed: out of memory for a factor this large, or more factor entries than
+    /// its index type can count.
+    #[error(
+        "symbolic analysis failed in {stage}: {source}; the factor of this matrix does not fit (a smaller problem, or more memory)"
+    )]
+    Symbolic {
+        /// The step that failed.
+        stage: SymbolicStage,
+        /// faer's error.
+        #[source]
+        source: faer::sparse::FaerError,
+    },
+}
+
+/// A step of the symbolic analysis done by faer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+pub enum SymbolicStage {
+    /// The approximate-minimum-degree fill-reducing ordering.
+    #[error("the AMD ordering")]
+    AmdOrdering,
+    /// The elimination tree, column counts and supernodes of the factor.
+    #[error("the supernodal structure")]
+    Supernodes,
+}
+
+#[cfg(test)]
+mod tests {
+    use std::error::Error;
+
+    use faer::sparse::FaerError;
+
+    use super::{CholeskyError, SymbolicStage};
+
+    #[test]
+    fn symbolic_failure_keeps_faer_error_as_its_source() {
+        let e = CholeskyError::Symbolic {
+            stage: SymbolicStage::AmdOrdering,
+            source: FaerError::OutOfMemory,
+        };
+        let source = e.source().expect("a source");
+        assert_eq!(
+            source.downcast_ref::<FaerError>(),
+            Some(&FaerError::OutOfMemory)
+        );
+        let message = e.to_string();
+        assert!(message.contains("the AMD ordering"), "{message}");
+        assert!(
+            message.contains(&FaerError::OutOfMemory.to_string()),
+            "{message}"
+        );
+    }
 }

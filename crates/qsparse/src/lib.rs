@@ -29,6 +29,6 @@ pub use cholesky::{
 };
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
-pub use error::{CholeskyError, SparseError};
+pub use error::{CholeskyError, SparseError, SymbolicStage};
 pub use ops::HermitianDefect;
 pub use triplet::TripletMatrix;

@@ -33,7 +33,7 @@ use faer::sparse::linalg::cholesky::{
 use qscalar::Scalar;
 
 use crate::vector::{axpy, axpy_two, inner, inner_two, prefetch_head};
-use crate::{CholeskyError, SparseMatrix};
+use crate::{CholeskyError, SparseMatrix, SymbolicStage};
 use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
 pub use ordering::FillOrdering;
 use ordering::{Graph, NESTED_DISSECTION_MIN_UNKNOWNS, nested_dissection};
@@ -231,9 +231,10 @@ impl SymbolicCholesky {
                     row - begin
                 } else {
                     let rows = &pattern[pattern_ptr[s]..pattern_ptr[s + 1]];
-                    w + rows.binary_search(&row).map_err(|_| {
-                        CholeskyError::Symbolic("input entry outside the factor pattern".into())
-                    })?
+                    // The factor's pattern holds every entry of the (permuted) input.
+                    w + rows
+                        .binary_search(&row)
+                        .expect("input entry inside the factor pattern")
                 };
                 let m = w + pattern_ptr[s + 1] - pattern_ptr[s];
                 input_target[k] = value_ptr[s] + (col - begin) * m + local_row;
@@ -343,8 +344,12 @@ fn faer_supernodes<T: Scalar>(
         None => SymmetricOrdering::Amd,
     };
     let symbolic =
-        factorize_symbolic_cholesky(symbolic_pattern, Side::Lower, faer_ordering, params)
-            .map_err(|e| CholeskyError::Symbolic(format!("{e:?}")))?;
+        factorize_symbolic_cholesky(symbolic_pattern, Side::Lower, faer_ordering, params).map_err(
+            |source| CholeskyError::Symbolic {
+                stage: SymbolicStage::Supernodes,
+                source,
+            },
+        )?;
     let (perm, perm_inv) = match symbolic.perm() {
         Some(p) => {
             let (fwd, inv) = p.arrays();

@@ -29,10 +29,10 @@
 //! fill and makes the columns of each subtree contiguous, as the supernodal analysis expects.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::amd;
+use faer::sparse::{FaerError, SymbolicSparseColMatRef};
 
-use crate::CholeskyError;
+use crate::{CholeskyError, SymbolicStage};
 
 /// Which fill-reducing ordering [`crate::SymbolicCholesky::analyze_with_ordering`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -137,7 +137,7 @@ pub(super) fn amd_order(
     let mut perm_inv = vec![0usize; n];
     let mut buffer =
         MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, row_idx.len()))
-            .map_err(|_| CholeskyError::Symbolic("out of memory for the AMD ordering".into()))?;
+            .map_err(|_| amd_failed(FaerError::OutOfMemory))?;
     amd::order_maybe_unsorted(
         &mut perm,
         &mut perm_inv,
@@ -145,8 +145,15 @@ pub(super) fn amd_order(
         amd::Control::default(),
         MemStack::new(&mut buffer),
     )
-    .map_err(|e| CholeskyError::Symbolic(format!("AMD ordering: {e:?}")))?;
+    .map_err(amd_failed)?;
     Ok(perm)
+}
+
+fn amd_failed(source: FaerError) -> CholeskyError {
+    CholeskyError::Symbolic {
+        stage: SymbolicStage::AmdOrdering,
+        source,
+    }
 }
 
 /// Nested dissection ordering of `graph` (module documentation), `perm[new] = old`, in a
