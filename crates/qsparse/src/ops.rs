@@ -78,7 +78,7 @@ impl<T: Scalar> SparseMatrix<T> {
     /// `y = Aᴴ x`, i.e. `yⱼ = Σᵢ conj(Aᵢⱼ) xᵢ`: for a Hermitian `A`, the product `A x`, and
     /// the faster way to compute it.
     ///
-    /// Each `yⱼ` is the inner product of column `j` with `x` ([`vector::gather_inner`]),
+    /// Each `yⱼ` is the inner product of column `j` with `x` ([`vector::gather_inner_columns`]),
     /// accumulated in registers and written once, where [`SparseMatrix::mul_vec`] scatters
     /// every column into `y` (a read-modify-write per entry, chained through the rows that
     /// neighbouring columns share). Large products run on two threads, each computing the
@@ -109,10 +109,8 @@ impl<T: Scalar> SparseMatrix<T> {
     where
         T: Scalar<Real = f64>,
     {
-        for (j, yj) in (first..).zip(y.iter_mut()) {
-            let (rows, vals) = self.col(j);
-            *yj = vector::gather_inner(vals, rows, x);
-        }
+        let col_ptr = &self.col_ptr[first..first + y.len() + 1];
+        vector::gather_inner_columns(col_ptr, &self.row_idx, &self.values, x, y);
     }
 
     /// The adjoint (conjugate transpose) `Aᴴ`, with `(Aᴴ)ᵢⱼ = conj(Aⱼᵢ)`: an `ncols × nrows`

@@ -294,25 +294,52 @@ pub fn axpy_two_then_inner_two<T: Scalar<Real = f64>>(
     s.map(|s| combine_outer_products(&s))
 }
 
-/// `Σₚ conj(aₚ) x[rows[p]]`: the inner product of the sparse vector with entries `a` at
-/// `rows` with the dense `x` (one row of `Aᴴ x` from a column of `A`).
+/// `yⱼ = Σₚ conj(aₚ) x[rows[p]]` over `p ∈ col_ptr[j]..col_ptr[j + 1]`: the inner products
+/// of consecutive columns of a compressed sparse column matrix (row indices `rows`, values
+/// `a`) with the dense `x`, that is the rows of `Aᴴ x` of those columns. `col_ptr` is the
+/// window of the column pointers from the first column to one past the last
+/// (`col_ptr.len() == y.len() + 1`).
 ///
 /// Quaternions (with AVX2 and FMA) accumulate the real outer products in registers, two
-/// entries at a time on independent accumulators, and combine them there; other scalars sum
-/// their products directly.
+/// entries at a time on independent accumulators, and combine them there, every column in one
+/// call of the kernel; other scalars sum their products directly.
 ///
 /// # Panics
-/// If `a` and `rows` differ in length or a row is outside `x`.
-pub fn gather_inner<T: Scalar<Real = f64>>(a: &[T], rows: &[usize], x: &[T]) -> T {
-    assert_eq!(a.len(), rows.len(), "gather_inner: lengths differ");
+/// If `col_ptr` does not have `y.len() + 1` entries, `rows` and `a` differ in length, a
+/// pointer is outside them or a row is outside `x`.
+pub fn gather_inner_columns<T: Scalar<Real = f64>>(
+    col_ptr: &[usize],
+    rows: &[usize],
+    a: &[T],
+    x: &[T],
+    y: &mut [T],
+) {
+    assert_eq!(col_ptr.len(), y.len() + 1, "gather_inner_columns: pointers");
+    assert_eq!(a.len(), rows.len(), "gather_inner_columns: lengths differ");
+    assert!(
+        col_ptr.windows(2).all(|w| w[0] <= w[1]) && col_ptr.last().is_none_or(|&e| e <= a.len()),
+        "gather_inner_columns: column pointers outside the entries"
+    );
     #[cfg(target_arch = "x86_64")]
     if quaternion_kernels::<T>() {
         // SAFETY: AVX2 and FMA are available; `T` has four `f64` components, so `a` holds
-        // four numbers per row of `rows` and `x` four per entry (the kernel checks the rows).
-        let q = unsafe { quaternion::gathered_inner(T::as_reals(a), rows, T::as_reals(x)) };
-        return from_components(q);
+        // four numbers per row of `rows`, `x` and `y` four per entry; the pointers are
+        // ordered and within the entries (checked above; the kernel checks the rows).
+        unsafe {
+            quaternion::gathered_inner_columns(
+                col_ptr,
+                rows,
+                T::as_reals(a),
+                T::as_reals(x),
+                T::as_reals_mut(y),
+            )
+        };
+        return;
     }
-    a.iter().zip(rows).map(|(&v, &r)| v.conj() * x[r]).sum()
+    for (range, yj) in col_ptr.windows(2).zip(y.iter_mut()) {
+        let (rows, a) = (&rows[range[0]..range[1]], &a[range[0]..range[1]]);
+        *yj = a.iter().zip(rows).map(|(&v, &r)| v.conj() * x[r]).sum();
+    }
 }
 
 /// `⟨x, y⟩` for long vectors, such as the Gram–Schmidt passes over a Krylov basis: the real

@@ -136,16 +136,17 @@ fn combine_in_registers(s: [__m256d; 4]) -> __m256d {
     }
 }
 
-/// `Σₚ conj(aₚ) x[rows[p]]` as four `f64`: the outer products `S_κλ = Σₚ aₚ,κ x[rows[p]],λ`,
+/// `Σₚ conj(aₚ) x[rows[p]]` in a register: the outer products `S_κλ = Σₚ aₚ,κ x[rows[p]],λ`,
 /// even and odd entries on separate accumulators (two chains of multiply-adds at once),
 /// combined in registers.
 ///
 /// # Safety
 /// AVX2 and FMA; `a` holds four values per entry of `rows`. Rows outside `x` panic.
-#[target_feature(enable = "avx2,fma")]
-pub(super) unsafe fn gathered_inner(a: &[f64], rows: &[usize], x: &[f64]) -> [f64; 4] {
-    let mut even = [_mm256_setzero_pd(); 4];
-    let mut odd = [_mm256_setzero_pd(); 4];
+#[inline(always)]
+unsafe fn gathered_inner(a: &[f64], rows: &[usize], x: &[f64]) -> __m256d {
+    // SAFETY: the caller guarantees the features.
+    let mut even = [unsafe { _mm256_setzero_pd() }; 4];
+    let mut odd = even;
     let load = |r: usize| {
         let entry = &x[4 * r..4 * r + 4];
         // SAFETY: `entry` holds four `f64`.
@@ -165,9 +166,36 @@ pub(super) unsafe fn gathered_inner(a: &[f64], rows: &[usize], x: &[f64]) -> [f6
         unsafe { accumulate_outer(&mut even, &a[4 * last..4 * last + 4], load(rows[last])) };
     }
     for (e, o) in even.iter_mut().zip(odd) {
-        *e = _mm256_add_pd(*e, o);
+        // SAFETY: the caller guarantees the features.
+        *e = unsafe { _mm256_add_pd(*e, o) };
     }
-    store_combined(even)
+    combine_in_registers(even)
+}
+
+/// `yⱼ = Σₚ conj(aₚ) x[rows[p]]` over `p ∈ col_ptr[j]..col_ptr[j + 1]` for every `j`: the
+/// inner products of consecutive columns of a compressed matrix (values `a`, four per entry)
+/// with `x`, in one call — a mesh operator's column has about seven entries, and a call per
+/// column cost about as much as its arithmetic.
+///
+/// # Safety
+/// AVX2 and FMA; `col_ptr` has one entry more than `y` has quaternions, and indexes `rows`
+/// and `a` (four values per row). Rows outside `x` panic.
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn gathered_inner_columns(
+    col_ptr: &[usize],
+    rows: &[usize],
+    a: &[f64],
+    x: &[f64],
+    y: &mut [f64],
+) {
+    for (range, yj) in col_ptr.windows(2).zip(y.chunks_exact_mut(4)) {
+        let (start, end) = (range[0], range[1]);
+        // SAFETY: the caller guarantees the features and the layout; `yj` holds four `f64`.
+        unsafe {
+            let q = gathered_inner(&a[4 * start..4 * end], &rows[start..end], x);
+            _mm256_storeu_pd(yj.as_mut_ptr(), q);
+        }
+    }
 }
 
 /// The inner product `Σ_κ conj(e_κ) S_κ` of the outer products `s`, as four `f64`.
