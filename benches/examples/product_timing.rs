@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use dirac::io::read_mesh;
-use dirac::operators::{face_mass, normal_dirac, quaternionic};
+use dirac::operators::{DiracPencil, normal_dirac};
 use qscalar::Quat;
 use qsparse::threads;
 
@@ -24,10 +24,9 @@ fn main() {
     let repeats: usize = repeats.parse().expect("REPEATS is a count");
     let mesh = read_mesh(&path).expect("a readable mesh");
     let d = normal_dirac(&mesh).expect("the Dirac operator");
-    let face_masses = quaternionic(&face_mass(&mesh));
-    let a = (d.adjoint())
-        .matmul(&face_masses.matmul(&d).expect("sizes agree"))
-        .expect("sizes agree");
+    let a = DiracPencil::new(&mesh, &d)
+        .expect("the Dirac pencil")
+        .stiffness;
     let n = a.ncols();
     let x: Vec<Quat<f64>> = (0..n)
         .map(|i| Quat::new(1.0 + (i % 7) as f64, 0.5, -0.25, 0.125))

@@ -49,11 +49,12 @@
 //! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, then by `λ`
 //! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`,
 //! whatever the last bits of the two), each as often as its multiplicity; eigenvectors of unit
-//! mass norm `Σ_p Ā_p |φ_p|² = 1`, mass-orthonormal within each eigenspace, in canonical phase ([`crate::phase`]), and
-//! mass-orthogonal to the kernel except on coupled pieces. A pair counts as converged when the
-//! relative residual of the operator's own eigenproblem (matrices as assembled, dual and mass
-//! norms) is at most [`CONVERGED_RESIDUAL_FACTOR`] times the tolerance, or when its normwise
-//! backward error `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)` is at the rounding floor
+//! mass norm `Σ_p Ā_p |φ_p|² = 1`, mass-orthonormal within each eigenspace, in canonical
+//! phase ([`crate::phase`]), and mass-orthogonal to the kernel except on coupled pieces. A
+//! pair counts as converged when the relative residual of the operator's own eigenproblem
+//! (matrices as assembled, dual and mass norms) is at most [`CONVERGED_RESIDUAL_FACTOR`] times
+//! the tolerance, or when its normwise backward error
+//! `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)` is at the rounding floor
 //! [`ROUNDING_BACKWARD_ERROR`]; otherwise [`SpectrumError::NotConverged`] carries the pairs
 //! that are.
 

@@ -178,8 +178,8 @@ unsafe fn gathered_inner(a: &[f64], rows: &[usize], x: &[f64]) -> __m256d {
 /// column cost about as much as its arithmetic.
 ///
 /// # Safety
-/// AVX2 and FMA; `col_ptr` has one entry more than `y` has quaternions, and indexes `rows`
-/// and `a` (four values per row). Rows outside `x` panic.
+/// AVX2 and FMA; `col_ptr` has one entry more than `y` has quaternions. Pointers outside
+/// `rows` and `a` (four values per row) and rows outside `x` panic.
 #[target_feature(enable = "avx2,fma")]
 pub(super) unsafe fn gathered_inner_columns(
     col_ptr: &[usize],
