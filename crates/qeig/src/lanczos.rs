@@ -97,10 +97,10 @@ pub struct LanczosOptions {
     /// the returned residuals are the true ones.
     pub tolerance: f64,
     /// Largest active basis dimension (locked and deflation vectors come on top).
-    /// `0` chooses `k + clamp(k, 32, 64)` (for the iteration-space `k`: twice `k` up to
-    /// `k = 64`, then 64 more than `k`), capped by the dimension, and after each restart the
-    /// same rule for the pairs still needed (the basis shrinks as pairs lock); a nonzero value
-    /// is kept throughout.
+    /// `0` chooses `p + clamp(p, 32, 64)` with `p = min(k, 128)` (for the iteration-space `k`:
+    /// twice `k` up to `k = 64`, then 64 more than `k`, at most 192), capped by the dimension,
+    /// and after each restart the same rule for the pairs still needed (the basis shrinks as
+    /// pairs lock); a nonzero value is kept throughout.
     pub max_dim: usize,
     /// Largest number of thick restarts before giving up.
     pub max_restarts: usize,
@@ -170,8 +170,19 @@ pub(crate) struct Outcome<V> {
     pub statistics: Statistics,
 }
 
+/// The most pairs an automatic active basis is sized for: with more still needed, it holds
+/// room for the next [`ACTIVE_WINDOW`] of them only.
+///
+/// The Lanczos sequence converges the wanted end first, and locked pairs leave the active
+/// basis, so the pairs behind the first hundred or so are not converging in this cycle
+/// anyway: holding Ritz vectors for them made every step read them and every restart's `Q Y`
+/// recombine them, for about as many operator applications (armadillo, relative Dirac,
+/// k = 500: 1,188 → 1,206 applications, 497k → 460k basis columns read, 45.8 → 43.5 s;
+/// docs/PERFORMANCE.md, "A window of wanted pairs").
+const ACTIVE_WINDOW: usize = 128;
+
 /// The active dimension for `pairs` wanted pairs when the options leave it automatic: the
-/// pairs and as many again, but at least 32 and at most 64 more.
+/// pairs (at most [`ACTIVE_WINDOW`]) and as many again, but at least 32 and at most 64 more.
 ///
 /// Every step orthogonalises against the locked vectors and the active ones, so a step costs
 /// about `locked + active` basis reads, and the locked vectors converge one window at a time
@@ -179,6 +190,7 @@ pub(crate) struct Outcome<V> {
 /// armadillo (relative Dirac, k = 200 and 500: 571 → 561 and 1,183 → 1,180 applications with
 /// 64 spare instead of `k`) but read 11–17 % more basis columns (docs/PERFORMANCE.md).
 fn active_for(pairs: usize) -> usize {
+    let pairs = pairs.min(ACTIVE_WINDOW);
     pairs + pairs.clamp(32, 64)
 }
 
@@ -374,24 +386,35 @@ where
     /// locked vectors and the active ones, which every step orthogonalises against — near
     /// `k + spare` instead of `k + max_active` (docs/PERFORMANCE.md, "Many pairs").
     fn active_dimension(&self, base: usize) -> usize {
-        let needed = self.k.saturating_sub(self.locked.len()).max(1);
         let wanted = if self.options.max_dim == 0 {
-            active_for(needed)
+            active_for(self.needed())
         } else {
             self.max_active
         };
         wanted.min(self.max_active).min(self.n - base)
     }
 
+    /// Pairs still needed (at least one).
+    fn needed(&self) -> usize {
+        self.k.saturating_sub(self.locked.len()).max(1)
+    }
+
     /// Ritz vectors a thick restart keeps for an active basis of dimension `active`: the pairs
-    /// still needed and half of the spare room, at most `active − 1` (room for a step).
+    /// the basis is sized for (those still needed; with an automatic basis at most
+    /// [`ACTIVE_WINDOW`]) and half of the spare room, at most `active − 1` (room for a step).
     ///
     /// Counted for the basis the sequence continues in, after this restart's locking: counted
     /// before it, the first restart of a run (k = 60: 60 needed in 120, keep 90) kept 58
-    /// vectors in an active basis of 59, which then restarted after a single step.
+    /// vectors in an active basis of 59, which then restarted after a single step. Counted
+    /// for all the pairs needed beyond the window, it would fill the basis and leave a single
+    /// step per restart.
     fn keep_count(&self, active: usize) -> usize {
-        let needed = self.k.saturating_sub(self.locked.len()).max(1);
-        (needed + (active - needed.min(active)) / 2).min(active.saturating_sub(1))
+        let sized_for = if self.options.max_dim == 0 {
+            self.needed().min(ACTIVE_WINDOW)
+        } else {
+            self.needed()
+        };
+        (sized_for + (active - sized_for.min(active)) / 2).min(active.saturating_sub(1))
     }
 
     /// First column of the active basis.

@@ -142,6 +142,20 @@ fn many_pairs_with_the_automatic_basis() {
     }
 }
 
+/// More pairs than the automatic active basis is sized for (the next 128 needed, 64 spare):
+/// every pair is still the dense one.
+#[test]
+fn more_pairs_than_the_active_window() {
+    let mut rng = Rng::new(10);
+    let (k_mat, s_mat) = random_pencil::<Quat<f64>>(420, 3, &mut rng);
+    check_with(
+        &Native,
+        &k_mat,
+        &s_mat,
+        &LanczosOptions::new(170, Which::LargestMagnitude),
+    );
+}
+
 /// The residuals of several pairs at once are exactly those of each pair alone (the
 /// many-column half-solve gives every column the one-column result).
 #[test]
