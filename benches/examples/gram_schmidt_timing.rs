@@ -57,11 +57,6 @@ impl<T: Scalar<Real = f64>> Sweep<T> {
     }
 }
 
-fn median(mut samples: Vec<f64>) -> f64 {
-    samples.sort_by(f64::total_cmp);
-    samples[samples.len() / 2]
-}
-
 fn main() {
     let mut args = std::env::args().skip(1);
     let length: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(21_600);
@@ -84,8 +79,8 @@ fn main() {
     // The sweep reads every column but the first two once.
     let column_reads = ((count - 2) * length) as f64;
     for (name, seconds) in [
-        ("quaternion", median(q)),
-        ("real (4 per quaternion)", median(r)),
+        ("quaternion", dirac_bench::median(&mut q)),
+        ("real (4 per quaternion)", dirac_bench::median(&mut r)),
     ] {
         println!(
             "{name}: {:.3} ms per sweep, {:.3} ns per quaternion and column, {:.1} GB/s of columns",

@@ -10,11 +10,6 @@ use dirac::operators::{DiracPencil, normal_dirac};
 use qscalar::Quat;
 use qsparse::threads;
 
-fn median(mut seconds: Vec<f64>) -> f64 {
-    seconds.sort_by(f64::total_cmp);
-    seconds[seconds.len() / 2]
-}
-
 fn main() {
     let mut args = std::env::args().skip(1);
     let (Some(path), Some(repeats)) = (args.next(), args.next()) else {
@@ -41,7 +36,7 @@ fn main() {
             seconds.push(start.elapsed().as_secs_f64());
         }
     }
-    let [one, two] = times.map(median);
+    let [one, two] = times.map(|mut seconds| dirac_bench::median(&mut seconds));
     println!(
         "{n} unknowns, {} entries: one thread {:.3} ms, two threads {:.3} ms",
         a.nnz(),
