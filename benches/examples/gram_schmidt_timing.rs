@@ -1,8 +1,10 @@
 //! Times one thread's Gram–Schmidt sweep (`qsparse::vector::axpy_two_then_inner_two`, the
 //! kernel of every Lanczos step's orthogonalisation) over `COLUMNS` unit columns of
 //! `LENGTH` quaternions, and over the same number of real columns of `4 LENGTH` reals:
-//! `gram_schmidt_timing LENGTH COLUMNS REPEATS`. Prints the median time per quaternion (four
-//! reals) and column, and the rate at which the sweep streams the columns.
+//! `gram_schmidt_timing LENGTH COLUMNS REPEATS` (`LENGTH` a multiple of four: whole blocks of
+//! the blocked layout the kernel works on; the columns are random, so reading them as blocked
+//! vectors changes nothing in the timing). Prints the median time per quaternion (four reals)
+//! and column, and the rate at which the sweep streams the columns.
 //!
 //! With the default 21,600 quaternions (half of the armadillo's 43,243 rows: one thread's
 //! share of a two-thread pass) and 400 columns the basis (276 MB) is far out of cache, as in

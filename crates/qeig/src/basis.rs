@@ -7,12 +7,17 @@
 //! the update by `vᵢ, vᵢ₊₁` and the coefficients of `vᵢ₊₂, vᵢ₊₃` fused in one sweep: each basis
 //! vector is read from memory once per pass (its second read, and `w`, come from cache), half
 //! the traffic of a classical pass through a matrix product (`Vᵀ w`, then `V G`), which
-//! streams the basis twice, and `w` is read and written once per pair of columns. The kernels
-//! ([`vector::inner_long`], [`vector::axpy_two_then_inner_two`]) work on the real
-//! component layout ([`Scalar::as_reals`]): writing `e₀ … e_{R−1}` for the units of `V`
-//! (`1, i, j, k` for quaternions, `R = REAL_DIM`), `⟨v, w⟩` is `Σ_κλ S_κλ conj(e_κ) e_λ` with
-//! the real outer products `S_κλ = Σₗ vₗ,κ wₗ,λ`, and `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`; both are
-//! pure multiply-adds over independent lanes.
+//! streams the basis twice, and `w` is read and written once per pair of columns.
+//!
+//! The columns, and the vectors orthogonalised against them, are stored in the **blocked
+//! layout** of the kernel [`vector::axpy_two_then_inner_two`] ([`vector::blocked_len`]:
+//! quaternions four rows at a time, component after component, so that a register holds one
+//! component of four rows and a quaternion product is sixteen whole-register multiply-adds).
+//! Writing `e₀ … e_{R−1}` for the units of `V` (`1, i, j, k` for quaternions,
+//! `R = REAL_DIM`), `⟨v, w⟩_λ = Σ_κ ±v_κ w_{κ⊕λ}` and `(v c)_λ = Σ_κ v_κ (e_κ c)_λ`, pure
+//! multiply-adds of components. Norms, the real parts of inner products, real multiples and
+//! the real combinations `Q Y` of a restart do not depend on the layout; the operator sees
+//! ordinary vectors ([`Basis::column_to`], [`Basis::to_layout`]).
 
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
@@ -24,10 +29,13 @@ use qsparse::vector;
 
 use crate::memory::{self, BasisTooLarge};
 
-/// `n`-vectors stored contiguously column after column.
+/// `n`-vectors stored contiguously column after column, in the blocked layout.
 #[derive(Debug)]
 pub(crate) struct Basis<V> {
+    /// Entries per stored column: `vector::blocked_len(dimension)`.
     n: usize,
+    /// Dimension of the vectors.
+    dimension: usize,
     data: Vec<V>,
     /// Columns read by Gram–Schmidt passes so far (the orthogonalisation's memory traffic is
     /// this times the size of a column).
@@ -35,9 +43,11 @@ pub(crate) struct Basis<V> {
 }
 
 impl<V: Scalar<Real = f64>> Basis<V> {
-    pub(crate) fn new(n: usize) -> Self {
+    /// An empty basis of `dimension`-vectors.
+    pub(crate) fn new(dimension: usize) -> Self {
         Self {
-            n,
+            n: vector::blocked_len::<V>(dimension),
+            dimension,
             data: Vec::new(),
             columns_read: AtomicUsize::new(0),
         }
@@ -57,19 +67,32 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         self.data.len().checked_div(self.n).unwrap_or(0)
     }
 
+    /// Column `i`, in the blocked layout.
     pub(crate) fn col(&self, i: usize) -> &[V] {
         &self.data[i * self.n..(i + 1) * self.n]
     }
 
-    /// Columns `start..start + count`, column after column.
-    pub(crate) fn columns(&self, start: usize, count: usize) -> &[V] {
-        &self.data[start * self.n..(start + count) * self.n]
+    /// Length of a vector in the blocked layout (what [`Basis::col`] returns and
+    /// [`Basis::orthogonalize`] takes).
+    pub(crate) fn layout_len(&self) -> usize {
+        self.n
+    }
+
+    /// `out ← x` in the blocked layout (`x` an ordinary `dimension`-vector).
+    pub(crate) fn to_layout(&self, x: &[V], out: &mut [V]) {
+        vector::to_blocked(x, out);
+    }
+
+    /// `out ← ` column `i` as an ordinary `dimension`-vector.
+    pub(crate) fn column_to(&self, i: usize, out: &mut [V]) {
+        vector::from_blocked(self.col(i), out);
     }
 
     /// Appends a column (growing the storage by one column beyond what
     /// [`Basis::reserve_columns`] reserved, never by doubling: a doubled Krylov basis would not
     /// fit where the reserved one does).
     pub(crate) fn push(&mut self, v: &[V]) {
+        assert_eq!(v.len(), self.n, "a basis column in the blocked layout");
         if self.data.len() + self.n > self.data.capacity() {
             self.data.reserve_exact(self.n);
         }
@@ -176,7 +199,9 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         let mut columns = Vec::with_capacity(self.cols().saturating_sub(start));
         while self.cols() > start {
             let last = self.cols() - 1;
-            columns.push(self.col(last).to_vec());
+            let mut column = vec![V::zero(); self.dimension];
+            self.column_to(last, &mut column);
+            columns.push(column);
             self.truncate(last);
             self.data.shrink_to_fit();
         }
@@ -229,7 +254,14 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         (before, last)
     }
 
-    /// Appends the normalised component of `v` orthogonal to all columns, if that component
+    /// [`Basis::append_orthonormal`] for an ordinary `dimension`-vector `x`.
+    pub(crate) fn append_ordinary(&mut self, x: &[V], coef: &mut Vec<V>) -> bool {
+        let mut v = vec![V::zero(); self.n];
+        self.to_layout(x, &mut v);
+        self.append_orthonormal(&mut v, coef)
+    }
+
+    /// Appends the normalised component of `v` (blocked layout) orthogonal to all columns, if that component
     /// is not negligible (`‖v⊥‖ > 1e−8 ‖v‖`); returns whether it was appended.
     pub(crate) fn append_orthonormal(&mut self, v: &mut [V], coef: &mut Vec<V>) -> bool {
         let (before, after) = self.orthogonalize(self.cols(), v, coef);
@@ -335,7 +367,8 @@ fn pass<V: Scalar<Real = f64>>(
         sweep(basis, m, 0..n, w, Some(coef), |_, c| c);
         return;
     }
-    let split = n / 2;
+    // On a block boundary of the blocked layout (blocks of four entries at most).
+    let split = n / 2 / 4 * 4;
     let (first, second) = w.split_at_mut(split);
     let exchange = Exchange::new();
     let exchange = &exchange;
@@ -382,40 +415,29 @@ fn sweep<V: Scalar<Real = f64>>(
     };
     let pair = |g: usize| GROUP * g + 1 < m;
     let groups = m.div_ceil(GROUP);
-    let first = group(0);
-    let initial = if pair(0) {
-        let (a, b) = vector::inner_two(first[0], first[1], w);
-        [a, b]
-    } else {
-        [vector::inner_long(first[0], w), V::zero()]
-    };
-    let mut c = total(0, initial);
-    for g in 0..groups {
+    // Step `g` updates by group `g − 1` and computes the coefficients of group `g`; the first
+    // step's update is by zero and the last step's "next" columns are its own (coefficients
+    // unused), so that every step is the one fused kernel.
+    let mut c = [V::zero(); GROUP];
+    for g in 0..=groups {
+        let update = group(g.saturating_sub(1));
+        let next = if g < groups { group(g) } else { update };
+        let minus = [V::zero() - c[0], V::zero() - c[1]];
+        let partials = vector::axpy_two_then_inner_two(w, update, minus, next);
+        if g == groups {
+            return;
+        }
+        // Only the last group can be a single column.
+        c = total(
+            g,
+            [partials[0], if pair(g) { partials[1] } else { V::zero() }],
+        );
         if let Some(coef) = coef.as_deref_mut() {
             coef[GROUP * g] += c[0];
             if pair(g) {
                 coef[GROUP * g + 1] += c[1];
             }
         }
-        let minus = [V::zero() - c[0], V::zero() - c[1]];
-        let v = group(g);
-        if g + 1 == groups {
-            if pair(g) {
-                vector::axpy_two(w, v[0], v[1], minus[0], minus[1]);
-            } else {
-                vector::axpy(w, v[0], minus[0]);
-            }
-            return;
-        }
-        // Only the last group can be a single column.
-        let partials = vector::axpy_two_then_inner_two(w, v, minus, group(g + 1));
-        c = total(
-            g + 1,
-            [
-                partials[0],
-                if pair(g + 1) { partials[1] } else { V::zero() },
-            ],
-        );
     }
 }
 
@@ -434,36 +456,70 @@ impl Drop for Abandon<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use qscalar::random::SplitMix64;
     use qscalar::{Complex, Quat};
 
+    /// Column `i` as an ordinary vector.
+    fn ordinary<V: Scalar<Real = f64>>(basis: &Basis<V>, i: usize) -> Vec<V> {
+        let mut x = vec![V::zero(); basis.dimension];
+        basis.column_to(i, &mut x);
+        x
+    }
+
+    /// A random ordinary `n`-vector.
+    fn random_vector<V: Scalar<Real = f64>>(n: usize, rng: &mut SplitMix64) -> Vec<V> {
+        let mut x = vec![V::zero(); n];
+        rng.fill_symmetric(&mut x);
+        x
+    }
+
+    /// The blocked layout holds the ordinary vector, with zero padding rows.
+    #[test]
+    fn layout_round_trip() {
+        let mut rng = SplitMix64::new(1);
+        for n in [0usize, 1, 3, 4, 5, 9] {
+            let basis = Basis::<Quat<f64>>::new(n);
+            let x = random_vector::<Quat<f64>>(n, &mut rng);
+            let mut blocked = vec![Quat::from_real(f64::NAN); basis.layout_len()];
+            basis.to_layout(&x, &mut blocked);
+            assert!((vector::norm(&blocked) - vector::norm(&x)).abs() < 1e-14);
+            let mut back = vec![Quat::from_real(0.0); n];
+            vector::from_blocked(&blocked, &mut back);
+            assert_eq!(back, x);
+        }
+    }
+
     /// A pass over `m` orthonormal columns (pairs and a single last column, on one thread)
-    /// is the projection `w − Σᵢ vᵢ ⟨vᵢ, w⟩` with the coefficients `⟨vᵢ, w⟩`, up to rounding.
+    /// is the projection `w − Σᵢ vᵢ ⟨vᵢ, w⟩` with the coefficients `⟨vᵢ, w⟩`, up to rounding;
+    /// the arithmetic on the ordinary vectors is the reference.
     fn pass_projects<V: Scalar<Real = f64>>() {
-        let mut rng = qscalar::random::SplitMix64::new(7);
+        let mut rng = SplitMix64::new(7);
         for n in [7usize, 13, 64, 101] {
             let mut basis = Basis::<V>::new(n);
             let mut coef = Vec::new();
             for m in 0..6 {
-                let mut w = vec![V::zero(); n];
-                rng.fill_symmetric(&mut w);
-                let expected_coef: Vec<V> =
-                    (0..m).map(|i| vector::inner(basis.col(i), &w)).collect();
+                let w = random_vector::<V>(n, &mut rng);
+                let columns: Vec<Vec<V>> = (0..m).map(|i| ordinary(&basis, i)).collect();
+                let expected_coef: Vec<V> = columns.iter().map(|v| vector::inner(v, &w)).collect();
                 let mut expected = w.clone();
-                for (i, &c) in expected_coef.iter().enumerate() {
-                    vector::axpy(&mut expected, basis.col(i), V::zero() - c);
+                for (v, &c) in columns.iter().zip(&expected_coef) {
+                    vector::axpy(&mut expected, v, V::zero() - c);
                 }
+                let mut blocked = vec![V::zero(); basis.layout_len()];
+                basis.to_layout(&w, &mut blocked);
                 let mut got_coef = vec![V::zero(); m];
-                pass(&basis, m, &mut w, &mut got_coef, false);
+                pass(&basis, m, &mut blocked, &mut got_coef, false);
+                let mut got = vec![V::zero(); n];
+                vector::from_blocked(&blocked, &mut got);
                 let scale = 1.0 + n as f64;
                 for (a, b) in got_coef.iter().zip(&expected_coef) {
                     assert!((*a - *b).abs() <= 1e-13 * scale, "m = {m}: coefficients");
                 }
-                for (a, b) in w.iter().zip(&expected) {
+                for (a, b) in got.iter().zip(&expected) {
                     assert!((*a - *b).abs() <= 1e-13 * scale, "m = {m}: vector");
                 }
-                let mut v = vec![V::zero(); n];
-                rng.fill_symmetric(&mut v);
-                assert!(basis.append_orthonormal(&mut v, &mut coef));
+                let v = random_vector::<V>(n, &mut rng);
+                assert!(basis.append_ordinary(&v, &mut coef));
             }
         }
     }
@@ -479,16 +535,15 @@ mod tests {
     /// enough to take it by default.
     fn two_threads_match_one<V: Scalar<Real = f64>>() {
         let n = PARALLEL_REALS / V::REAL_DIM + 3;
-        let mut rng = qscalar::random::SplitMix64::new(5);
+        let mut rng = SplitMix64::new(5);
         let mut basis = Basis::<V>::new(n);
         let mut coef = Vec::new();
         for _ in 0..5 {
-            let mut v = vec![V::zero(); n];
-            rng.fill_symmetric(&mut v);
-            assert!(basis.append_orthonormal(&mut v, &mut coef));
+            let v = random_vector::<V>(n, &mut rng);
+            assert!(basis.append_ordinary(&v, &mut coef));
         }
-        let mut w = vec![V::zero(); n];
-        rng.fill_symmetric(&mut w);
+        let mut w = vec![V::zero(); basis.layout_len()];
+        basis.to_layout(&random_vector::<V>(n, &mut rng), &mut w);
         let (mut one, mut two) = (w.clone(), w);
         let (mut coef_one, mut coef_two) = (vec![V::zero(); 5], vec![V::zero(); 5]);
         pass(&basis, 5, &mut one, &mut coef_one, false);
@@ -499,8 +554,10 @@ mod tests {
         for (a, b) in one.iter().zip(&two) {
             assert!((*a - *b).abs() < 1e-12, "vectors differ");
         }
+        let mut two_ordinary = vec![V::zero(); n];
+        vector::from_blocked(&two, &mut two_ordinary);
         for i in 0..5 {
-            assert!(vector::inner(basis.col(i), &two).abs() < 1e-12);
+            assert!(vector::inner(&ordinary(&basis, i), &two_ordinary).abs() < 1e-12);
         }
     }
 
@@ -514,17 +571,16 @@ mod tests {
     #[test]
     fn orthogonalize_gives_orthonormal_complement() {
         let n = 37;
-        let mut rng = qscalar::random::SplitMix64::new(3);
+        let mut rng = SplitMix64::new(3);
         let mut basis = Basis::<Quat<f64>>::new(n);
         let mut coef = Vec::new();
         for _ in 0..6 {
-            let mut v = vec![Quat::from_real(0.0); n];
-            rng.fill_symmetric(&mut v);
-            assert!(basis.append_orthonormal(&mut v, &mut coef));
+            let v = random_vector::<Quat<f64>>(n, &mut rng);
+            assert!(basis.append_ordinary(&v, &mut coef));
         }
         for a in 0..6 {
             for b in 0..6 {
-                let g = vector::inner(basis.col(a), basis.col(b));
+                let g = vector::inner(&ordinary(&basis, a), &ordinary(&basis, b));
                 let expected = if a == b { 1.0 } else { 0.0 };
                 assert!((g - Quat::from_real(expected)).abs() < 1e-13);
             }
@@ -533,11 +589,11 @@ mod tests {
 
     /// A random basis of `cols` quaternion columns of length `n` (not orthonormal).
     fn random_basis(n: usize, cols: usize, seed: u64) -> Basis<Quat<f64>> {
-        let mut rng = qscalar::random::SplitMix64::new(seed);
+        let mut rng = SplitMix64::new(seed);
         let mut basis = Basis::new(n);
+        let mut v = vec![Quat::from_real(0.0); basis.layout_len()];
         for _ in 0..cols {
-            let mut v = vec![Quat::from_real(0.0); n];
-            rng.fill_symmetric(&mut v);
+            basis.to_layout(&random_vector(n, &mut rng), &mut v);
             basis.push(&v);
         }
         basis

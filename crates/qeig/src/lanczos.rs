@@ -55,6 +55,7 @@ use qscalar::Scalar;
 use qscalar::random::SplitMix64;
 use qsparse::vector;
 
+use crate::backend::VECTORS_PER_PASS;
 use crate::basis::Basis;
 use crate::dense::real_symmetric_eigen;
 use crate::error::{BasisTooLarge, DenseEigenError};
@@ -300,8 +301,12 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     basis: Basis<V>,
     rng: SplitMix64,
     h: Mat<f64>,
-    /// The vector being expanded (`A qⱼ` and its orthogonalisation).
+    /// The vector being expanded (`A qⱼ` and its orthogonalisation), in the basis's blocked
+    /// layout.
     w: Vec<V>,
+    /// The operator's argument and result, ordinary `n`-vectors.
+    x: Vec<V>,
+    y: Vec<V>,
     coef: Vec<V>,
     /// Locked eigenvalues, in the order of their basis columns.
     locked: Vec<f64>,
@@ -353,6 +358,7 @@ where
         // Deflation, k locked pairs, the active basis and its continuation vector.
         let columns = (deflation + k + max_active + 1).min(n + 1);
         basis.reserve_columns(columns, options.memory_limit)?;
+        let layout_len = basis.layout_len();
         Ok(Self {
             op,
             options,
@@ -364,7 +370,9 @@ where
             basis,
             rng: SplitMix64::new(options.seed),
             h: Mat::zeros(max_active + 1, max_active + 1),
-            w: vec![V::zero(); n],
+            w: vec![V::zero(); layout_len],
+            x: vec![V::zero(); n],
+            y: vec![V::zero(); n],
             coef: Vec::new(),
             locked: Vec::new(),
             statistics: Statistics::default(),
@@ -431,9 +439,9 @@ where
         }
         self.statistics.rounds += 1;
         self.basis.truncate(base);
-        self.rng.fill_symmetric(&mut self.w);
+        self.rng.fill_symmetric(&mut self.x);
         let t = Instant::now();
-        let started = self.basis.append_orthonormal(&mut self.w, &mut self.coef);
+        let started = self.basis.append_ordinary(&self.x, &mut self.coef);
         self.orthogonalization_time += t.elapsed();
         self.active = self.active_dimension(base);
         self.kept = 0;
@@ -453,7 +461,9 @@ where
                 return Err(Stopped);
             }
             let j = self.expanded;
-            self.op.apply(self.basis.col(base + j), &mut self.w);
+            self.basis.column_to(base + j, &mut self.x);
+            self.op.apply(&self.x, &mut self.y);
+            self.basis.to_layout(&self.y, &mut self.w);
             self.statistics.operator_applications += 1;
             self.statistics.iterations += 1;
             let t = Instant::now();
@@ -487,6 +497,7 @@ where
         let mut alpha = 0.0;
         if j > self.kept {
             let qj = self.basis.col(base + j);
+            // The real part of an inner product is the same in any layout.
             alpha = vector::inner(qj, w).re();
             vector::axpy(w, qj, V::from_real(-alpha));
             let coupling = self.h[(j, j - 1)];
@@ -503,8 +514,8 @@ where
             true
         } else {
             // Invariant subspace: continue from a fresh direction, decoupled.
-            self.rng.fill_symmetric(w);
-            self.basis.append_orthonormal(w, &mut self.coef)
+            self.rng.fill_symmetric(&mut self.x);
+            self.basis.append_ordinary(&self.x, &mut self.coef)
         }
     }
 
@@ -659,9 +670,17 @@ where
         let base = self.base();
         let kth_before = kth_best(which, &self.locked, self.k);
         let thetas: Vec<f64> = candidates.iter().map(|&i| pairs.theta[i]).collect();
-        let residuals = self
-            .op
-            .relative_residuals(self.basis.columns(base, candidates.len()), &thetas);
+        // The operator takes ordinary vectors: a few at a time, as many as it reads its data
+        // once for.
+        let mut residuals = Vec::with_capacity(thetas.len());
+        let mut vectors = vec![V::zero(); VECTORS_PER_PASS * self.n];
+        for (chunk, chunk_thetas) in thetas.chunks(VECTORS_PER_PASS).enumerate() {
+            let vectors = &mut vectors[..chunk_thetas.len() * self.n];
+            for (c, x) in vectors.chunks_exact_mut(self.n).enumerate() {
+                self.basis.column_to(base + chunk * VECTORS_PER_PASS + c, x);
+            }
+            residuals.extend(self.op.relative_residuals(vectors, chunk_thetas));
+        }
         let mut newly_locked = Vec::new();
         for (c, (&i, residual)) in candidates.iter().zip(residuals).enumerate() {
             let theta = pairs.theta[i];
@@ -858,8 +877,7 @@ where
                 context: "deflation vector",
             });
         }
-        let mut v = d.clone();
-        basis.append_orthonormal(&mut v, &mut coef);
+        basis.append_ordinary(d, &mut coef);
     }
     let available = n - basis.cols();
     if options.k == 0 || options.k > available {

@@ -270,8 +270,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             for u in 0..T::REAL_DIM {
                 let e: T = unit(u);
                 let ce: Vec<T> = c.iter().map(|&x| x * e).collect();
-                let mut y = op.constraint_direction(&backend.embed(&ce));
-                basis.append_orthonormal(&mut y, &mut coef);
+                let y = op.constraint_direction(&backend.embed(&ce));
+                basis.append_ordinary(&y, &mut coef);
             }
         }
 

@@ -20,19 +20,6 @@ pub(crate) fn has_avx2_fma() -> bool {
     }
 }
 
-/// Whether the CPU also has AVX-512F and AVX-512VL (32 vector registers for 256-bit code).
-#[inline]
-pub(crate) fn has_avx512vl() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx512vl")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 /// `fn name[generics](args) -> ret => kernel[kernel generics]` defines `name`, which calls
 /// `kernel::<kernel generics, true>` compiled for AVX2 + FMA when [`has_avx2_fma`], else
 /// `kernel::<kernel generics, false>`. The kernel generics end with a comma.

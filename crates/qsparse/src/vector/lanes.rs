@@ -1,8 +1,7 @@
 //! Kernels over the real component layout of `f64`, `Complex<f64>` and `Quat<f64>` vectors
 //! (`R = REAL_DIM` reals per entry), spread over eight independent lanes so that a long sweep
-//! is bound by memory rather than by the latency of one accumulation chain: the inner product
-//! of [`super::inner_long`] and the fused pair update of [`super::axpy_two_then_inner_two`]
-//! (all scalars but AVX2 quaternions).
+//! is bound by memory rather than by the latency of one accumulation chain: the fused pair
+//! update of [`super::axpy_two_then_inner_two`] (all scalars but AVX2 quaternions).
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
@@ -109,50 +108,4 @@ pub(super) fn widen<const R: usize>(s: [[f64; R]; R]) -> [[f64; 4]; 4] {
         o[..R].copy_from_slice(r);
     }
     out
-}
-
-dispatch_avx2_fma! {
-/// `S_κλ = Σₗ a[R l + κ] b[R l + λ]` (`R` divides 8).
-pub(super) fn outer_products[const R: usize](a: &[f64], b: &[f64]) -> [[f64; R]; R]
-    => outer_products_kernel[R,]
-}
-
-#[inline(always)]
-fn outer_products_kernel<const R: usize, const FUSED: bool>(a: &[f64], b: &[f64]) -> [[f64; R]; R] {
-    const LANES: usize = 8;
-    let len = a.len().min(b.len());
-    let (a, b) = (&a[..len], &b[..len]);
-    // acc[λ][p] = Σ over chunks of a[c + p] b[c + R ⌊p/R⌋ + λ].
-    let mut acc = [[0.0f64; LANES]; R];
-    let mut chunks_a = a.chunks_exact(LANES);
-    let mut chunks_b = b.chunks_exact(LANES);
-    for (ca, cb) in (&mut chunks_a).zip(&mut chunks_b) {
-        let ca: &[f64; LANES] = ca.try_into().expect("chunk of LANES");
-        let cb: &[f64; LANES] = cb.try_into().expect("chunk of LANES");
-        for (lambda, row) in acc.iter_mut().enumerate() {
-            for (p, s) in row.iter_mut().enumerate() {
-                let y = cb[(p / R) * R + lambda];
-                *s = if FUSED {
-                    ca[p].mul_add(y, *s)
-                } else {
-                    ca[p] * y + *s
-                };
-            }
-        }
-    }
-    let mut s = [[0.0f64; R]; R];
-    for (lambda, row) in acc.iter().enumerate() {
-        for (p, &x) in row.iter().enumerate() {
-            s[p % R][lambda] += x;
-        }
-    }
-    let (ra, rb) = (chunks_a.remainder(), chunks_b.remainder());
-    for (ea, eb) in ra.chunks_exact(R).zip(rb.chunks_exact(R)) {
-        for (kappa, row) in s.iter_mut().enumerate() {
-            for (lambda, x) in row.iter_mut().enumerate() {
-                *x += ea[kappa] * eb[lambda];
-            }
-        }
-    }
-    s
 }

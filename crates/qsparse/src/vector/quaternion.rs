@@ -16,8 +16,8 @@
 
 use core::arch::x86_64::{
     __m256d, _MM_HINT_T0, _mm_prefetch, _mm256_add_pd, _mm256_broadcast_sd, _mm256_fmadd_pd,
-    _mm256_loadu_pd, _mm256_permute_pd, _mm256_permute4x64_pd, _mm256_setr_pd, _mm256_setzero_pd,
-    _mm256_storeu_pd,
+    _mm256_fnmadd_pd, _mm256_loadu_pd, _mm256_permute_pd, _mm256_permute4x64_pd, _mm256_setr_pd,
+    _mm256_setzero_pd, _mm256_storeu_pd,
 };
 
 /// Outer-product accumulators `S[κ][λ]`.
@@ -216,113 +216,92 @@ pub(super) struct PairStep<'a> {
     pub(super) next: [&'a [f64]; 2],
 }
 
-/// Defines a compilation of [`pair_step`] for the given target features.
-macro_rules! pair_step_compiled_for {
-    ($(#[$attribute:meta])* $name:ident, $features:literal) => {
-        $(#[$attribute])*
-        #[target_feature(enable = $features)]
-        pub(super) unsafe fn $name(w: &mut [f64], step: &PairStep<'_>) -> [[f64; 4]; 2] {
-            // SAFETY: the caller guarantees the contract.
-            unsafe { pair_step(w, step) }
-        }
-    };
-}
+/// Signs of the products in the components of `conj(n) g`: component `λ` is
+/// `Σ_κ INNER_SIGNS[κ][λ] n_κ g_{κ⊕λ}` (`⊕` the bitwise exclusive or of the indices, since
+/// `e_κ e_μ = ±e_{κ⊕μ}` for the units `1, i, j, k`).
+const INNER_SIGNS: [[f64; 4]; 4] = [
+    [1.0, 1.0, 1.0, 1.0],
+    [1.0, -1.0, 1.0, -1.0],
+    [1.0, -1.0, -1.0, 1.0],
+    [1.0, 1.0, -1.0, -1.0],
+];
 
-pair_step_compiled_for! {
-    /// `wᵣ ← wᵣ + vᵣ c + uᵣ d` (`v, u` the step's columns, `c, d` their factors), then the
-    /// inner products of the step's next two columns with the new `w`, combined in
-    /// registers: two columns of a modified Gram–Schmidt sweep per read and write of `w`.
-    ///
-    /// # Safety
-    /// See the module documentation.
-    multiply_add_two_then_inner_two, "avx2,fma"
-}
-
-pair_step_compiled_for! {
-    /// [`multiply_add_two_then_inner_two`] compiled for AVX-512VL as well: the same 256-bit
-    /// operations, with 32 vector registers instead of 16, enough for the eight constant
-    /// columns and the eight accumulators of a pair without spilling.
-    ///
-    /// # Safety
-    /// See the module documentation; AVX-512F and AVX-512VL are available too.
-    multiply_add_two_then_inner_two_wide, "avx2,fma,avx512f,avx512vl"
-}
-
-/// The body of [`multiply_add_two_then_inner_two`], inlined into each of its compilations.
+/// `wᵣ ← wᵣ + vᵣ c + uᵣ d` (`v, u` the step's columns, `c, d` their factors), then the inner
+/// products of the step's next two columns with the new `w`, for vectors in the blocked
+/// layout (sixteen `f64` per block of four rows: component `κ` of the block's rows at
+/// `4κ..4κ + 4`, [`super::blocked_len`]): two columns of a modified Gram–Schmidt sweep per
+/// read and write of `w`.
+///
+/// With one register per component of four rows, `(v c)_λ = Σ_κ v_κ (e_κ c)_λ` is sixteen
+/// multiply-adds by the broadcast entries of `e_κ c` (constants, read from the first-level
+/// cache), and the inner product accumulates component `λ` of `conj(n) g` directly
+/// ([`INNER_SIGNS`]) in one register per component, summed across its four rows at the end.
 ///
 /// # Safety
-/// AVX2 and FMA; see the module documentation.
-#[inline(always)]
-unsafe fn pair_step(w: &mut [f64], step: &PairStep<'_>) -> [[f64; 4]; 2] {
+/// AVX2 and FMA; every slice as long as `w`, whose length is a multiple of sixteen.
+#[target_feature(enable = "avx2,fma")]
+pub(super) unsafe fn blocked_pair_step(w: &mut [f64], step: &PairStep<'_>) -> [[f64; 4]; 2] {
     let PairStep {
         columns: [v, u],
-        factors: [mc, md],
+        factors,
         next: [next, after],
     } = *step;
-    let (cc, cd) = (load_columns(mc), load_columns(md));
-    // SAFETY: the caller guarantees the features.
-    let mut s = [unsafe { _mm256_setzero_pd() }; 4];
+    // `constants[g][κ][λ]`: the entry `(e_κ c_g)_λ` in all four lanes.
+    let constants = factors.map(|m| m.map(|row| row.map(|x| [x; 4])));
+    let constant = |g: usize, kappa: usize, lambda: usize| {
+        // SAFETY: four contiguous `f64`.
+        unsafe { _mm256_loadu_pd(constants[g][kappa][lambda].as_ptr()) }
+    };
+    let load = |block: &[f64], kappa: usize| {
+        // SAFETY: a block holds sixteen `f64`.
+        unsafe { _mm256_loadu_pd(block[4 * kappa..4 * kappa + 4].as_ptr()) }
+    };
+    let mut s = [_mm256_setzero_pd(); 4];
     let mut t = s;
-    for ((((wr, vr), ur), nr), ar) in w
-        .chunks_exact_mut(4)
-        .zip(v.chunks_exact(4))
-        .zip(u.chunks_exact(4))
-        .zip(next.chunks_exact(4))
-        .zip(after.chunks_exact(4))
+    for ((((wb, vb), ub), nb), ab) in w
+        .chunks_exact_mut(16)
+        .zip(v.chunks_exact(16))
+        .zip(u.chunks_exact(16))
+        .zip(next.chunks_exact(16))
+        .zip(after.chunks_exact(16))
     {
-        prefetch(nr.as_ptr());
-        prefetch(ar.as_ptr());
-        // SAFETY: every chunk holds four `f64`; the caller guarantees the features.
-        unsafe {
-            // Two independent chains, joined once.
-            let first = times_columns(vr, &cc, _mm256_loadu_pd(wr.as_ptr()));
-            let second = times_columns(ur, &cd, _mm256_setzero_pd());
-            let updated = _mm256_add_pd(first, second);
-            _mm256_storeu_pd(wr.as_mut_ptr(), updated);
-            accumulate_outer(&mut s, nr, updated);
-            accumulate_outer(&mut t, ar, updated);
+        prefetch(nb.as_ptr());
+        prefetch(ab.as_ptr());
+        let mut g = [0, 1, 2, 3].map(|lambda| load(wb, lambda));
+        for (column, factor) in [(vb, 0), (ub, 1)] {
+            for kappa in 0..4 {
+                let x = load(column, kappa);
+                for (lambda, gl) in g.iter_mut().enumerate() {
+                    *gl = _mm256_fmadd_pd(x, constant(factor, kappa, lambda), *gl);
+                }
+            }
+        }
+        for (lambda, gl) in g.iter().enumerate() {
+            // SAFETY: four `f64` of the block.
+            unsafe { _mm256_storeu_pd(wb[4 * lambda..4 * lambda + 4].as_mut_ptr(), *gl) };
+        }
+        for kappa in 0..4 {
+            let (n, a) = (load(nb, kappa), load(ab, kappa));
+            for lambda in 0..4 {
+                let gk = g[kappa ^ lambda];
+                if INNER_SIGNS[kappa][lambda] > 0.0 {
+                    s[lambda] = _mm256_fmadd_pd(n, gk, s[lambda]);
+                    t[lambda] = _mm256_fmadd_pd(a, gk, t[lambda]);
+                } else {
+                    s[lambda] = _mm256_fnmadd_pd(n, gk, s[lambda]);
+                    t[lambda] = _mm256_fnmadd_pd(a, gk, t[lambda]);
+                }
+            }
         }
     }
-    [store_combined(s), store_combined(t)]
+    [s, t].map(|acc| acc.map(horizontal_sum))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The pair kernel gives the same bits compiled for 16 or for 32 registers (the same
-    /// operations in the same order), so the CPU a run lands on does not change its results.
-    #[test]
-    fn both_compilations_of_the_pair_step_agree() {
-        if !(crate::simd::has_avx2_fma() && crate::simd::has_avx512vl()) {
-            return; // Only one of them can run here.
-        }
-        let mut rng = qscalar::random::SplitMix64::new(11);
-        let mut vector = |len: usize| {
-            let mut v = vec![0.0; len];
-            rng.fill_symmetric(&mut v);
-            v
-        };
-        for len in [0, 4, 8, 44, 400] {
-            let (v, u, next, after) = (vector(len), vector(len), vector(len), vector(len));
-            let (mc, md) = ([[0.5, -1.0, 0.25, 2.0]; 4], [[1.5, 0.0, -0.75, 0.125]; 4]);
-            let (mut narrow, mut wide) = (vector(len), Vec::new());
-            wide.clone_from(&narrow);
-            let step = PairStep {
-                columns: [&v, &u],
-                factors: [&mc, &md],
-                next: [&next, &after],
-            };
-            // SAFETY: AVX2, FMA and AVX-512VL are available (checked above); lengths are
-            // equal multiples of four.
-            let (a, b) = unsafe {
-                (
-                    multiply_add_two_then_inner_two(&mut narrow, &step),
-                    multiply_add_two_then_inner_two_wide(&mut wide, &step),
-                )
-            };
-            assert_eq!(a, b, "coefficients, length {len}");
-            assert_eq!(narrow, wide, "updated vector, length {len}");
-        }
-    }
+/// The sum of a register's four lanes.
+#[inline(always)]
+fn horizontal_sum(x: __m256d) -> f64 {
+    let mut lanes = [0.0; 4];
+    // SAFETY: `lanes` holds four `f64`; only called from functions compiled with AVX2.
+    unsafe { _mm256_storeu_pd(lanes.as_mut_ptr(), x) };
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
 }
