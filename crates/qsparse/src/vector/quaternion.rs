@@ -11,6 +11,10 @@
 //! instead, which costs more in shuffles than it saves on the short vectors of sparse
 //! triangular solves (measured about 1.5× slower per entry on cache-resident factors).
 //!
+//! The exception is the Gram–Schmidt kernel [`blocked_pair_step`]: the Krylov basis is stored
+//! transposed once and for all, four rows at a time component after component (the blocked
+//! layout of [`super::blocked_len`]), so it needs neither shuffles nor broadcasts of entries.
+//!
 //! Safety contract of every kernel: AVX2 and FMA are available, every slice length is a
 //! multiple of four, and the input slices are at least as long as the first one.
 
