@@ -75,6 +75,7 @@ fn summary<T>(seconds: f64, result: &Result<Eigen<T>, qeig::EigError<T>>) -> Val
                 "solve_seconds": s.solve_time.as_secs_f64(),
                 "orthogonalization_seconds": s.orthogonalization_time.as_secs_f64(),
                 "basis_columns_read": s.basis_columns_read,
+                "eigenvalues": e.values,
             })
         }
         Err(e) => json!({ "seconds": seconds, "converged": 0, "error": e.to_string() }),
@@ -197,13 +198,9 @@ pub const EIGS_CASES: [&str; 5] = [
     "faer-partial-real-block",
 ];
 
-/// `compare eigs --level L -k K`: one JSON object with each backend's median seconds over
-/// `repeats` runs, converged counts, solver statistics and the ratios of the issue.
-pub fn compare_eigs(level: u32, k: usize, repeats: usize) -> Value {
-    compare_eigs_cases(level, k, repeats, &EIGS_CASES)
-}
-
-/// [`compare_eigs`] restricted to some of [`EIGS_CASES`] (ratios need the cases they use).
+/// `compare eigs --level L -k K [--cases …]`: one JSON object with each case's median seconds
+/// over `repeats` runs, converged counts, solver statistics, the eigenvalues `μ` of the last
+/// run, and the ratios of the issue (those whose cases ran).
 pub fn compare_eigs_cases(level: u32, k: usize, repeats: usize, cases: &[&str]) -> Value {
     let mesh = icosphere(level);
     let laplacian = cotan_laplacian(&mesh);

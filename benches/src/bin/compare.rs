@@ -6,13 +6,14 @@
 //! compare spmv|cholesky [--level L | --size N] [--repeats R] [--single-thread]
 //! compare ordering [--level L | --size N | --mesh FILE] [--repeats R] [--single-thread]
 //! compare eigs [--level L | --mesh FILE] [-k K] [--repeats R] [--single-thread]
-//!              [--operator laplace-quaternionic|OPERATOR]
+//!              [--operator laplace-quaternionic|OPERATOR] [--cases CASE,CASE,…]
 //! ```
 //!
 //! `spmv` and `cholesky` use `dirac_bench::connection_laplacian` on the unit icosphere:
 //! `--level L` gives `10·4^L + 2` quaternion unknowns, `--size N` picks the smallest level with
 //! at least `N`. `eigs` computes `K` quaternionic pairs of the quaternionic Laplacian pencil on
-//! the icosphere with every backend and the real scalar Laplacian (`dirac_bench::eigs`), or,
+//! the icosphere with every backend and the real scalar Laplacian (`dirac_bench::eigs`; `--cases`
+//! keeps some of `dirac_bench::eigs::EIGS_CASES`, for example `native,real-scalar`), or,
 //! with `--operator OPERATOR` written as for `dirac` (`relative-dirac`, `family:0.5`, …), the
 //! spectrum of that operator on the icosphere or `--mesh FILE` with every backend
 //! (`dirac_bench::spectra`). `ordering` factors the same matrix (on the icosphere, or on
@@ -27,14 +28,14 @@ use std::process::ExitCode;
 use dirac::generators::icosphere;
 use dirac::io::read_mesh;
 use dirac::spectrum::Operator;
-use dirac_bench::eigs::compare_eigs;
+use dirac_bench::eigs::{EIGS_CASES, compare_eigs_cases};
 use dirac_bench::linear::{compare_cholesky, compare_orderings, compare_spmv};
 use dirac_bench::spectra::compare_spectrum;
 use dirac_bench::{connection_laplacian, connection_laplacian_on, icosphere_level_for};
 
 const USAGE: &str = "usage: compare [spmv|cholesky|ordering|eigs] [--level L | --size N | --mesh FILE] \
                      [-k K] [--repeats R] [--operator laplace-quaternionic|relative-dirac|family:T|…] \
-                     [--single-thread]";
+                     [--cases CASE,CASE,…] [--single-thread]";
 
 struct Options {
     case: String,
@@ -43,6 +44,7 @@ struct Options {
     repeats: usize,
     mesh: Option<String>,
     operator: String,
+    cases: Vec<String>,
     single_thread: bool,
 }
 
@@ -54,6 +56,7 @@ fn parse(args: &[String]) -> Result<Options, String> {
         repeats: 5,
         mesh: None,
         operator: "laplace-quaternionic".into(),
+        cases: EIGS_CASES.iter().map(|c| c.to_string()).collect(),
         single_thread: false,
     };
     let mut i = 0;
@@ -83,6 +86,20 @@ fn parse(args: &[String]) -> Result<Options, String> {
             }
             "--repeats" => {
                 options.repeats = value(i)?.parse().map_err(|e| format!("--repeats: {e}"))?;
+                i += 1;
+            }
+            "--cases" => {
+                options.cases = value(i)?.split(',').map(str::to_string).collect();
+                if let Some(unknown) = options
+                    .cases
+                    .iter()
+                    .find(|c| !EIGS_CASES.contains(&c.as_str()))
+                {
+                    return Err(format!(
+                        "--cases: unknown case {unknown} (known: {})",
+                        EIGS_CASES.join(", ")
+                    ));
+                }
                 i += 1;
             }
             "--single-thread" => options.single_thread = true,
@@ -154,7 +171,8 @@ fn main() -> ExitCode {
             }
         },
         "eigs" if options.operator == "laplace-quaternionic" => {
-            compare_eigs(options.level, options.k, options.repeats)
+            let cases: Vec<&str> = options.cases.iter().map(String::as_str).collect();
+            compare_eigs_cases(options.level, options.k, options.repeats, &cases)
         }
         "eigs" => match operator_spectrum(&options) {
             Ok(report) => report,

@@ -7,36 +7,9 @@ import pathlib
 
 import numpy as np
 import pytest
+from reference import icosphere
 
 REPOSITORY = pathlib.Path(__file__).resolve().parents[3]
-
-
-def icosphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
-    """A unit icosphere: the icosahedron, each triangle split in four ``subdivisions`` times."""
-    t = (1.0 + 5.0**0.5) / 2.0
-    V = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-         [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]]
-    F = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-         [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-         [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
-    V = [np.array(v, dtype=float) / np.linalg.norm(v) for v in V]
-    for _ in range(subdivisions):
-        midpoint: dict[tuple[int, int], int] = {}
-
-        def middle(a: int, b: int) -> int:
-            key = (min(a, b), max(a, b))
-            if key not in midpoint:
-                m = V[a] + V[b]
-                V.append(m / np.linalg.norm(m))
-                midpoint[key] = len(V) - 1
-            return midpoint[key]
-
-        refined = []
-        for a, b, c in F:
-            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
-            refined += [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-        F = refined
-    return np.array(V), np.array(F, dtype=np.int64)
 
 
 def torus(around: int, tube: int, R: float = 1.0, r: float = 0.4) -> tuple[np.ndarray, np.ndarray]:

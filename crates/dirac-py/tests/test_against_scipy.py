@@ -10,27 +10,8 @@ import scipy.sparse
 import scipy.sparse.linalg
 
 import dirac_spectra as ds
-from conftest import conjugate, icosphere, quaternion_product
-
-
-def cotangent_laplacian(V: np.ndarray, F: np.ndarray) -> tuple[scipy.sparse.csc_array, np.ndarray]:
-    """L_ij = −(cot α_ij + cot β_ij)/2, L_ii = −Σ_j L_ij, and barycentric masses (area/3)."""
-    n = len(V)
-    rows, cols, vals = [], [], []
-    mass = np.zeros(n)
-    for corner in range(3):
-        i, j, k = F[:, corner], F[:, (corner + 1) % 3], F[:, (corner + 2) % 3]
-        u, w = V[j] - V[i], V[k] - V[i]
-        cross = np.linalg.norm(np.cross(u, w), axis=1)
-        cot = np.einsum("ij,ij->i", u, w) / cross  # the angle at i, opposite edge jk
-        rows += [j, k]
-        cols += [k, j]
-        vals += [-cot / 2, -cot / 2]
-        mass += np.bincount(i, weights=cross / 6, minlength=n)
-    off = scipy.sparse.csc_array(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
-    )
-    return (off - scipy.sparse.diags_array(np.asarray(off.sum(axis=1)).ravel())).tocsc(), mass
+from conftest import conjugate, quaternion_product
+from reference import cotangent_laplacian, icosphere
 
 
 def test_the_laplacian_is_the_cotangent_laplacian_with_barycentric_masses(sphere):

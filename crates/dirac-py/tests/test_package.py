@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import dirac_spectra as ds
-from conftest import grid, icosphere, random_rotation, torus
+from conftest import grid, random_rotation, torus
+from reference import icosphere
 
 
 def test_the_same_spectrum_as_the_command_line_on_spot(dirac_binary, tmp_path):

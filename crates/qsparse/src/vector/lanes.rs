@@ -5,6 +5,7 @@
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
+use super::prefetch_ahead;
 use crate::simd::dispatch_avx2_fma;
 
 /// The leading `R × R` block of a `4 × 4` array.
@@ -63,6 +64,9 @@ fn fused_two_kernel<const R: usize, const FUSED: bool>(
                     *x = mul_add::<FUSED>(v8[(p / R) * R + kappa], m[p], *x);
                 }
             }
+        }
+        for ng in &next {
+            prefetch_ahead(&ng[c..]);
         }
         for (ng, acc) in next.iter().zip(&mut acc) {
             let n8: &[f64; LANES] = ng[c..c + LANES].try_into().expect("chunk of LANES");

@@ -19,24 +19,23 @@
 //! multiple of four, and the input slices are at least as long as the first one.
 
 use core::arch::x86_64::{
-    __m256d, _MM_HINT_T0, _mm_prefetch, _mm256_add_pd, _mm256_broadcast_sd, _mm256_fmadd_pd,
-    _mm256_fnmadd_pd, _mm256_loadu_pd, _mm256_permute_pd, _mm256_permute4x64_pd, _mm256_setr_pd,
-    _mm256_setzero_pd, _mm256_storeu_pd,
+    __m256d, _mm256_add_pd, _mm256_broadcast_sd, _mm256_fmadd_pd, _mm256_fnmadd_pd,
+    _mm256_loadu_pd, _mm256_permute_pd, _mm256_permute4x64_pd, _mm256_setr_pd, _mm256_setzero_pd,
+    _mm256_storeu_pd,
 };
+
+use super::prefetch_ahead;
 
 /// Outer-product accumulators `S[κ][λ]`.
 pub(super) type Outer = [[f64; 4]; 4];
 
-/// How far ahead a streamed vector is prefetched, in `f64` (eight cache lines).
-const PREFETCH_DISTANCE: usize = 64;
-
-/// Asks for the cache line `PREFETCH_DISTANCE` values ahead of `p` (a hint: it never faults,
-/// also past the end of the slice). Hardware prefetchers lose track of the many short column
-/// streams of a sparse factor.
+/// Asks for both cache lines of the block (sixteen `f64`) as far ahead as
+/// [`super::prefetch_ahead`]. Measured on Zen 1: with only the first line of each block asked
+/// for, the Gram–Schmidt sweep ran 15–25 % slower.
 #[inline(always)]
-fn prefetch(p: *const f64) {
-    // SAFETY: prefetching has no memory effects.
-    unsafe { _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(PREFETCH_DISTANCE).cast()) }
+fn prefetch_block(block: &[f64]) {
+    prefetch_ahead(block);
+    prefetch_ahead(&block[8..]);
 }
 
 /// Loads the four columns `e_κ c`.
@@ -85,8 +84,8 @@ pub(super) unsafe fn multiply_add_two(g: &mut [f64], a: &[f64], b: &[f64], mx: &
         .zip(a.chunks_exact(4))
         .zip(b.chunks_exact(4))
     {
-        prefetch(ar.as_ptr());
-        prefetch(br.as_ptr());
+        prefetch_ahead(ar);
+        prefetch_ahead(br);
         // SAFETY: every chunk holds four `f64`.
         unsafe {
             // Two independent chains, joined once.
@@ -112,8 +111,8 @@ pub(super) unsafe fn inner_two(a: &[f64], b: &[f64], g: &[f64]) -> ([f64; 4], [f
         .zip(a.chunks_exact(4))
         .zip(b.chunks_exact(4))
     {
-        prefetch(ar.as_ptr());
-        prefetch(br.as_ptr());
+        prefetch_ahead(ar);
+        prefetch_ahead(br);
         // SAFETY: every chunk holds four `f64`.
         unsafe {
             let gv = _mm256_loadu_pd(gr.as_ptr());
@@ -269,8 +268,9 @@ pub(super) unsafe fn blocked_pair_step(w: &mut [f64], step: &PairStep<'_>) -> [[
         .zip(next.chunks_exact(16))
         .zip(after.chunks_exact(16))
     {
-        prefetch(nb.as_ptr());
-        prefetch(ab.as_ptr());
+        for stream in [nb, ab] {
+            prefetch_block(stream);
+        }
         let mut g = [0, 1, 2, 3].map(|lambda| load(wb, lambda));
         for (column, factor) in [(vb, 0), (ub, 1)] {
             for kappa in 0..4 {
