@@ -29,17 +29,43 @@ fn inner_kernel<T: Scalar, const FUSED: bool>(x: &[T], y: &[T]) -> T {
     if x.len().min(y.len()) < 4 {
         return x.iter().zip(y).map(|(&a, &b)| a.conj() * b).sum();
     }
-    let mut outer = [[T::Real::zero(); 4]; 4];
-    for (a, b) in x.iter().zip(y) {
-        let (a, b) = ([*a], [*b]);
-        let (ar, br) = (T::as_reals(&a), T::as_reals(&b));
-        for (row, &a_kappa) in outer.iter_mut().zip(ar) {
-            for (s, &b_lambda) in row.iter_mut().zip(br) {
-                *s = multiply_add::<_, FUSED>(a_kappa, b_lambda, *s);
+    // Independent accumulation chains: `REAL_DIM²` per entry, and entries spread over lanes
+    // until there are sixteen, so that a real product is not bound by the latency of one
+    // chain (16 lanes for `f64`, 4 for complex numbers, 1 for quaternions).
+    let lanes = (16 / (T::REAL_DIM * T::REAL_DIM)).max(1);
+    let mut outer = [[[T::Real::zero(); 4]; 4]; 16];
+    let len = x.len().min(y.len());
+    let whole = len / lanes * lanes;
+    let (x, y) = (&x[..len], &y[..len]);
+    for (xs, ys) in x[..whole].chunks_exact(lanes).zip(y[..whole].chunks_exact(lanes)) {
+        for ((lane, a), b) in outer.iter_mut().zip(xs).zip(ys) {
+            outer_product_add::<T, FUSED>(lane, *a, *b);
+        }
+    }
+    for (a, b) in x[whole..].iter().zip(&y[whole..]) {
+        outer_product_add::<T, FUSED>(&mut outer[0], *a, *b);
+    }
+    let (first, rest) = outer.split_first_mut().expect("sixteen lanes");
+    for lane in &rest[..lanes - 1] {
+        for (row, lane_row) in first.iter_mut().zip(lane) {
+            for (s, &t) in row.iter_mut().zip(lane_row) {
+                *s += t;
             }
         }
     }
-    combine_outer_products(&outer)
+    combine_outer_products(first)
+}
+
+/// `S_κλ ← S_κλ + a_κ b_λ` over the components of `a` and `b`.
+#[inline(always)]
+fn outer_product_add<T: Scalar, const FUSED: bool>(outer: &mut [[T::Real; 4]; 4], a: T, b: T) {
+    let (a, b) = ([a], [b]);
+    let (ar, br) = (T::as_reals(&a), T::as_reals(&b));
+    for (row, &a_kappa) in outer.iter_mut().zip(ar) {
+        for (s, &b_lambda) in row.iter_mut().zip(br) {
+            *s = multiply_add::<_, FUSED>(a_kappa, b_lambda, *s);
+        }
+    }
 }
 
 /// The unit `e_κ` whose only non-zero component is component `κ` (1, i, j, k for quaternions;
@@ -264,7 +290,13 @@ pub fn inner_two<T: Scalar<Real = f64>>(a: &[T], b: &[T], g: &[T]) -> (T, T) {
             unsafe { quaternion::inner_two(T::as_reals(a), T::as_reals(b), T::as_reals(g)) };
         return (from_components(qa), from_components(qb));
     }
-    (inner(a, g), inner(b, g))
+    let (a, b, g) = (T::as_reals(a), T::as_reals(b), T::as_reals(g));
+    let [sa, sb] = match T::REAL_DIM {
+        1 => lanes::inner_two::<1>(a, b, g).map(lanes::widen),
+        2 => lanes::inner_two::<2>(a, b, g).map(lanes::widen),
+        _ => lanes::inner_two::<4>(a, b, g).map(lanes::widen),
+    };
+    (combine_outer_products(&sa), combine_outer_products(&sb))
 }
 
 /// Entries of `T` an `n`-vector takes in the *blocked layout* of a Gram–Schmidt sweep: `n`

@@ -1,7 +1,8 @@
 //! Kernels over the real component layout of `f64`, `Complex<f64>` and `Quat<f64>` vectors
 //! (`R = REAL_DIM` reals per entry), spread over eight independent lanes so that a long sweep
 //! is bound by memory rather than by the latency of one accumulation chain: the fused pair
-//! update of [`super::axpy_two_then_inner_two`] (all scalars but AVX2 quaternions).
+//! update of [`super::axpy_two_then_inner_two`] and the paired inner products of
+//! [`super::inner_two`] (all scalars but AVX2 quaternions).
 //! Outer products come back as `S_κλ`, combined by the caller with
 //! [`super::combine_outer_products`].
 
@@ -98,6 +99,56 @@ fn fused_two_kernel<const R: usize, const FUSED: bool>(
             for (kappa, row) in s.iter_mut().enumerate() {
                 for (lambda, x) in row.iter_mut().enumerate() {
                     *x += ng[e + kappa] * ew[lambda];
+                }
+            }
+        }
+    }
+    s
+}
+
+dispatch_avx2_fma! {
+/// [`inner_two_kernel`], with FMA where the CPU has it.
+pub(super) fn inner_two[const R: usize](a: &[f64], b: &[f64], g: &[f64]) -> [[[f64; R]; R]; 2]
+    => inner_two_kernel[R,]
+}
+
+/// `S_0,κλ = Σₗ a[R l + κ] g[R l + λ]` and `S_1,κλ` the same with `b`, reading `g` once (the
+/// backward substitution of a supernode; `R` divides 8; lengths equal).
+#[inline(always)]
+fn inner_two_kernel<const R: usize, const FUSED: bool>(
+    a: &[f64],
+    b: &[f64],
+    g: &[f64],
+) -> [[[f64; R]; R]; 2] {
+    const LANES: usize = 8;
+    let len = g.len();
+    let columns = [&a[..len], &b[..len]];
+    let mut acc = [[[0.0f64; LANES]; R]; 2];
+    let chunks = len / LANES * LANES;
+    for c in (0..chunks).step_by(LANES) {
+        let g8: &[f64; LANES] = g[c..c + LANES].try_into().expect("chunk of LANES");
+        for (column, acc) in columns.iter().zip(&mut acc) {
+            let x8: &[f64; LANES] = column[c..c + LANES].try_into().expect("chunk of LANES");
+            for (lambda, row) in acc.iter_mut().enumerate() {
+                for (p, s) in row.iter_mut().enumerate() {
+                    *s = mul_add::<FUSED>(x8[p], g8[(p / R) * R + lambda], *s);
+                }
+            }
+        }
+    }
+    let mut s = [[[0.0f64; R]; R]; 2];
+    for (s, acc) in s.iter_mut().zip(&acc) {
+        for (lambda, row) in acc.iter().enumerate() {
+            for (p, &x) in row.iter().enumerate() {
+                s[p % R][lambda] += x;
+            }
+        }
+    }
+    for e in (chunks..len).step_by(R) {
+        for (column, s) in columns.iter().zip(&mut s) {
+            for (kappa, row) in s.iter_mut().enumerate() {
+                for (lambda, x) in row.iter_mut().enumerate() {
+                    *x += column[e + kappa] * g[e + lambda];
                 }
             }
         }

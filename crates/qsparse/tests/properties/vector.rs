@@ -13,10 +13,10 @@ use qsparse::vector::{
 
 const TOL: f64 = 1e-12;
 
-/// Four vectors of one length (0 to 20, so both the paired loop and its remainder run) and
-/// two coefficients.
+/// Four vectors of one length (0 to 40, so that the lane loops of every kernel, up to sixteen
+/// entries at a time, run whole chunks and a remainder) and two coefficients.
 fn inputs<T: ScalarStrategy>() -> impl Strategy<Value = ([Vec<T>; 4], T, T)> {
-    (0..21usize).prop_flat_map(|n| {
+    (0..41usize).prop_flat_map(|n| {
         (
             [
                 vector::<T>(n),
