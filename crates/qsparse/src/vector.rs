@@ -37,7 +37,10 @@ fn inner_kernel<T: Scalar, const FUSED: bool>(x: &[T], y: &[T]) -> T {
     let len = x.len().min(y.len());
     let whole = len / lanes * lanes;
     let (x, y) = (&x[..len], &y[..len]);
-    for (xs, ys) in x[..whole].chunks_exact(lanes).zip(y[..whole].chunks_exact(lanes)) {
+    for (xs, ys) in x[..whole]
+        .chunks_exact(lanes)
+        .zip(y[..whole].chunks_exact(lanes))
+    {
         for ((lane, a), b) in outer.iter_mut().zip(xs).zip(ys) {
             outer_product_add::<T, FUSED>(lane, *a, *b);
         }
@@ -195,7 +198,7 @@ const PREFETCH_AHEAD_BYTES: usize = 512;
 /// a sparse factor, and on Zen 1 they left the Gram–Schmidt sweeps 10–25 % slower than with
 /// this hint.
 #[inline(always)]
-pub(crate) fn prefetch_ahead<T>(stream: &[T]) {
+fn prefetch_ahead<T>(stream: &[T]) {
     #[cfg(target_arch = "x86_64")]
     {
         use core::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
