@@ -18,6 +18,50 @@ pub(super) fn narrow<const R: usize>(s: [[f64; 4]; 4]) -> [[f64; R]; R] {
     out
 }
 
+/// Independent accumulators per row of outer products: eight `f64`, one 512-bit or two 256-bit
+/// registers.
+const LANES: usize = 8;
+
+/// `acc[λ][p] += x[p] y[R ⌊p/R⌋ + λ]`: the outer products of the `LANES / R` entries of a chunk,
+/// lane `p` carrying component `p mod R` of `x`.
+#[inline(always)]
+fn accumulate_lanes<const R: usize, const FUSED: bool>(
+    acc: &mut [[f64; LANES]; R],
+    x: &[f64; LANES],
+    y: &[f64; LANES],
+) {
+    for (lambda, row) in acc.iter_mut().enumerate() {
+        for (p, s) in row.iter_mut().enumerate() {
+            *s = mul_add::<FUSED>(x[p], y[(p / R) * R + lambda], *s);
+        }
+    }
+}
+
+/// The outer products `S_κλ` of two columns from their lanes: lane `p` of row `λ` holds
+/// products of component `p mod R`.
+#[inline(always)]
+fn fold_lanes<const R: usize>(acc: &[[[f64; LANES]; R]; 2]) -> [[[f64; R]; R]; 2] {
+    let mut s = [[[0.0f64; R]; R]; 2];
+    for (s, acc) in s.iter_mut().zip(acc) {
+        for (lambda, row) in acc.iter().enumerate() {
+            for (p, &x) in row.iter().enumerate() {
+                s[p % R][lambda] += x;
+            }
+        }
+    }
+    s
+}
+
+/// `S_κλ += x_κ y_λ` for one entry `x`, `y` of `R` components each.
+#[inline(always)]
+fn add_entry_products<const R: usize>(s: &mut [[f64; R]; R], x: &[f64], y: &[f64]) {
+    for (row, &x_kappa) in s.iter_mut().zip(x) {
+        for (sum, &y_lambda) in row.iter_mut().zip(y) {
+            *sum += x_kappa * y_lambda;
+        }
+    }
+}
+
 dispatch_avx2_fma! {
 /// [`fused_two_kernel`], with FMA where the CPU has it.
 pub(super) fn fused_two[const R: usize](
@@ -42,7 +86,6 @@ fn fused_two_kernel<const R: usize, const FUSED: bool>(
     rows: [[[f64; R]; R]; 2],
     next: [&[f64]; 2],
 ) -> [[[f64; R]; R]; 2] {
-    const LANES: usize = 8;
     let len = w.len();
     let (v, next) = (v.map(|x| &x[..len]), next.map(|x| &x[..len]));
     // Row κ of update g spread over the lanes: mult[g][κ][p] = rows[g][κ][p mod R].
@@ -71,21 +114,10 @@ fn fused_two_kernel<const R: usize, const FUSED: bool>(
         }
         for (ng, acc) in next.iter().zip(&mut acc) {
             let n8: &[f64; LANES] = ng[c..c + LANES].try_into().expect("chunk of LANES");
-            for (lambda, row) in acc.iter_mut().enumerate() {
-                for (p, s) in row.iter_mut().enumerate() {
-                    *s = mul_add::<FUSED>(n8[p], w8[(p / R) * R + lambda], *s);
-                }
-            }
+            accumulate_lanes::<R, FUSED>(acc, n8, w8);
         }
     }
-    let mut s = [[[0.0f64; R]; R]; 2];
-    for (s, acc) in s.iter_mut().zip(&acc) {
-        for (lambda, row) in acc.iter().enumerate() {
-            for (p, &x) in row.iter().enumerate() {
-                s[p % R][lambda] += x;
-            }
-        }
-    }
+    let mut s = fold_lanes(&acc);
     for e in (chunks..len).step_by(R) {
         let ew = &mut w[e..e + R];
         for (vg, r) in v.iter().zip(&rows) {
@@ -96,11 +128,7 @@ fn fused_two_kernel<const R: usize, const FUSED: bool>(
             }
         }
         for (ng, s) in next.iter().zip(&mut s) {
-            for (kappa, row) in s.iter_mut().enumerate() {
-                for (lambda, x) in row.iter_mut().enumerate() {
-                    *x += ng[e + kappa] * ew[lambda];
-                }
-            }
+            add_entry_products(s, &ng[e..e + R], ew);
         }
     }
     s
@@ -120,7 +148,6 @@ fn inner_two_kernel<const R: usize, const FUSED: bool>(
     b: &[f64],
     g: &[f64],
 ) -> [[[f64; R]; R]; 2] {
-    const LANES: usize = 8;
     let len = g.len();
     let columns = [&a[..len], &b[..len]];
     let mut acc = [[[0.0f64; LANES]; R]; 2];
@@ -129,28 +156,13 @@ fn inner_two_kernel<const R: usize, const FUSED: bool>(
         let g8: &[f64; LANES] = g[c..c + LANES].try_into().expect("chunk of LANES");
         for (column, acc) in columns.iter().zip(&mut acc) {
             let x8: &[f64; LANES] = column[c..c + LANES].try_into().expect("chunk of LANES");
-            for (lambda, row) in acc.iter_mut().enumerate() {
-                for (p, s) in row.iter_mut().enumerate() {
-                    *s = mul_add::<FUSED>(x8[p], g8[(p / R) * R + lambda], *s);
-                }
-            }
+            accumulate_lanes::<R, FUSED>(acc, x8, g8);
         }
     }
-    let mut s = [[[0.0f64; R]; R]; 2];
-    for (s, acc) in s.iter_mut().zip(&acc) {
-        for (lambda, row) in acc.iter().enumerate() {
-            for (p, &x) in row.iter().enumerate() {
-                s[p % R][lambda] += x;
-            }
-        }
-    }
+    let mut s = fold_lanes(&acc);
     for e in (chunks..len).step_by(R) {
         for (column, s) in columns.iter().zip(&mut s) {
-            for (kappa, row) in s.iter_mut().enumerate() {
-                for (lambda, x) in row.iter_mut().enumerate() {
-                    *x += column[e + kappa] * g[e + lambda];
-                }
-            }
+            add_entry_products(s, &column[e..e + R], &g[e..e + R]);
         }
     }
     s
