@@ -194,7 +194,7 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> HermitianOperator<V>
                 self.k_mul(x, &mut kx);
                 self.s.mul(x, &mut sx);
                 let s_norm = vector::norm(&sx);
-                vector::axpy(&mut kx, &sx, V::from_real(-theta));
+                vector::axpy_real(&mut kx, &sx, -theta);
                 residuals.push(vector::norm(&kx) / (theta.abs() * s_norm));
             }
         }

@@ -192,7 +192,7 @@ fn tridiagonal_eigen<T: Scalar<Real = f64>>(
                 .sum::<T>()
                 .scale(tau);
         }
-        let gamma = tau * vector::inner(&v, p).re();
+        let gamma = tau * vector::real_inner(&v, p);
         for (pi, &vi) in p.iter_mut().zip(&v) {
             *pi -= vi.scale(gamma / 2.0);
         }

@@ -498,10 +498,10 @@ where
         if j > self.kept {
             let qj = self.basis.col(base + j);
             // The real part of an inner product is the same in any layout.
-            alpha = vector::inner(qj, w).re();
-            vector::axpy(w, qj, V::from_real(-alpha));
+            alpha = vector::real_inner(qj, w);
+            vector::axpy_real(w, qj, -alpha);
             let coupling = self.h[(j, j - 1)];
-            vector::axpy(w, self.basis.col(base + j - 1), V::from_real(-coupling));
+            vector::axpy_real(w, self.basis.col(base + j - 1), -coupling);
         }
         self.basis.orthogonalize(base + j + 1, w, &mut self.coef);
         self.h[(j, j)] = alpha + self.coef[base + j].re();

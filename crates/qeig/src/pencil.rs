@@ -382,7 +382,7 @@ impl<T: Scalar<Real = f64>> WithProducts<T> {
     /// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
     fn relative_residual(mut self, mu: f64) -> Folded<T> {
         let s_norm = vector::norm(&self.sx);
-        vector::axpy(&mut self.kx, &self.sx, T::from_real(-mu));
+        vector::axpy_real(&mut self.kx, &self.sx, -mu);
         Folded {
             value: mu,
             residual: vector::norm(&self.kx) / (mu.abs() * s_norm),
@@ -472,7 +472,7 @@ fn rayleigh_ritz<T: Scalar<Real = f64>>(
     let mut basis: Vec<WithProducts<T>> = Vec::new();
     while !members.is_empty() {
         let norms: Vec<f64> = (members.iter())
-            .map(|(x, sx)| vector::inner(x, sx).re().max(0.0).sqrt())
+            .map(|(x, sx)| vector::real_inner(x, sx).max(0.0).sqrt())
             .collect();
         let (best, &norm) = (norms.iter().enumerate())
             .max_by(|a, b| a.1.total_cmp(b.1))

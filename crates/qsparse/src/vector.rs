@@ -80,9 +80,21 @@ pub(crate) fn unit<T: Scalar>(kappa: usize) -> T {
     e[0]
 }
 
-/// `‖x‖ = sqrt(Σᵢ |xᵢ|²)`.
+/// `‖x‖ = sqrt(Σᵢ |xᵢ|²)`, summed as [`real_inner`]`(x, x)` (independent chains, not one).
 pub fn norm<T: Scalar>(x: &[T]) -> T::Real {
-    x.iter().fold(T::Real::zero(), |s, v| s + v.abs2()).sqrt()
+    real_inner(x, x).sqrt()
+}
+
+/// `Re⟨x, y⟩ = Σᵢ Re(conj(xᵢ) yᵢ)`: the dot product of the real components, a quarter of the
+/// arithmetic of [`inner`] for quaternions, and the same in the blocked layout of a Gram–Schmidt
+/// sweep as in the ordinary one.
+pub fn real_inner<T: Scalar>(x: &[T], y: &[T]) -> T::Real {
+    inner(T::as_reals(x), T::as_reals(y))
+}
+
+/// `y ← y + x r` for a real `r`: the real components of `x` times `r` (see [`real_inner`]).
+pub fn axpy_real<T: Scalar>(y: &mut [T], x: &[T], r: T::Real) {
+    axpy(T::as_reals_mut(y), T::as_reals(x), r);
 }
 
 dispatch_avx2_fma! {

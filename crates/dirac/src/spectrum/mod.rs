@@ -1242,7 +1242,7 @@ impl Residual {
         };
         // `P x` and `Q x` once: the difference and the scale both need `Q x`.
         let (mut residual, qx) = products(m, x);
-        vector::axpy(&mut residual, &qx, T::from_real(-lambda));
+        vector::axpy_real(&mut residual, &qx, -lambda);
         let difference = dual(&residual);
         let x_norm = mass_norm(masses, x);
         // An exact pair (`P x = λ Q x` to the last bit, as for the kernel of an operator that

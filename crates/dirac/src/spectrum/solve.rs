@@ -115,7 +115,7 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
             // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
             // error is second order in the vector's, where `1/μ` is first order.
             let (px, qx) = products(matrices, x);
-            *lambda = vector::inner(x, &px).re() / vector::inner(x, &qx).re();
+            *lambda = vector::real_inner(x, &px) / vector::real_inner(x, &qx);
         }
     });
     Ok(pairs)
@@ -311,14 +311,14 @@ fn restore_constant<T: Scalar<Real = f64>>(
 ) {
     let g = &mode.image;
     let residual = pencil_residual_vector(m, lambda, x);
-    let c = vector::inner(g, &residual).scale(1.0 / (lambda * vector::inner(g, g).re()));
+    let c = vector::inner(g, &residual).scale(1.0 / (lambda * vector::real_inner(g, g)));
     mode.vertices.iter().for_each(|&p| x[p] += c);
 }
 
 /// `P x − λ Q x`.
 fn pencil_residual_vector<T: Scalar<Real = f64>>(m: &Matrices<T>, lambda: f64, x: &[T]) -> Vec<T> {
     let (mut px, qx) = products(m, x);
-    vector::axpy(&mut px, &qx, T::from_real(-lambda));
+    vector::axpy_real(&mut px, &qx, -lambda);
     px
 }
 

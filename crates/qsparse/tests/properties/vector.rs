@@ -1,5 +1,6 @@
 //! The vector kernels (plain, two-column and fused, with their runtime-dispatched
-//! quaternion paths) against entry-by-entry scalar arithmetic: `g + a x + b y`, `Σ conj(aᵣ) gᵣ`.
+//! quaternion paths, and the real-coefficient ones) against entry-by-entry scalar arithmetic:
+//! `g + a x + b y`, `Σ conj(aᵣ) gᵣ`, `g + a r`, `Re Σ conj(aᵣ) gᵣ`.
 
 use num_complex::Complex;
 use proptest::prelude::*;
@@ -7,8 +8,8 @@ use qscalar::Quat;
 use qscalar::strategies::ScalarStrategy;
 use qsparse::strategies::vector;
 use qsparse::vector::{
-    axpy, axpy_two, axpy_two_then_inner_two, blocked_len, from_blocked, inner, inner_two,
-    to_blocked,
+    axpy, axpy_real, axpy_two, axpy_two_then_inner_two, blocked_len, from_blocked, inner,
+    inner_two, real_inner, to_blocked,
 };
 
 const TOL: f64 = 1e-12;
@@ -64,6 +65,17 @@ fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
     prop_assert!(close(ia, naive_inner(&a, &g), scale));
     prop_assert!(close(ib, naive_inner(&b, &g), scale));
     prop_assert!(close(inner(&a, &g), naive_inner(&a, &g), scale));
+    let real_part = real_inner(&a, &g) - naive_inner(&a, &g).re();
+    prop_assert!(real_part.abs() <= TOL * (1.0 + scale), "real_inner");
+    let r = x.re();
+    let mut real = g.clone();
+    axpy_real(&mut real, &a, r);
+    for i in 0..g.len() {
+        prop_assert!(
+            close(real[i], g[i] + a[i] * T::from_real(r), scale),
+            "axpy_real, entry {i}"
+        );
+    }
 
     // The pair step of a Gram–Schmidt sweep, on vectors in the blocked layout: the update by
     // `a` and `b`, then the coefficients of `next` and `a` from the updated vector.
