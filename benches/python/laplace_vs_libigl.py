@@ -13,7 +13,8 @@
   eigenvalues nearest it: the kernel (one zero per component) and the smallest nonzero ones,
   which is what ``-k K`` returns for Laplace (the kernel is listed by default).
 
-Prints the median wall time of each over the repetitions, the median CPU time (user + system,
+The runners alternate, in an order rotated at each repetition. Prints the median wall time of
+each over the repetitions, the median CPU time (user + system,
 all threads; for the command line that of the child process), which a loaded machine disturbs
 less, the ratios, and the largest relative difference of the eigenvalues against libigl (the kernel's zeros compared in absolute terms,
 relative to the largest eigenvalue).
@@ -104,8 +105,12 @@ def main() -> None:
         times: dict[str, list[float]] = {name: [] for name in runners}
         cpu: dict[str, list[float]] = {name: [] for name in runners}
         values = {}
-        for _ in range(args.repeats):
-            for name, runner in runners.items():
+        for repeat in range(args.repeats):
+            # Rotated each repetition: whoever runs right after libigl (a Python process that
+            # leaves the caches cold) would otherwise always be the same.
+            order = list(runners.items())
+            order = order[repeat % len(order) :] + order[: repeat % len(order)]
+            for name, runner in order:
                 t, c, v = timed(runner, path)
                 times[name].append(t)
                 cpu[name].append(c)

@@ -124,23 +124,29 @@ pub fn barycentric_masses(mesh: &TriMesh) -> Vec<f64> {
 /// The negative of libigl's and gptoolbox's `cotmatrix`.
 pub fn cotan_laplacian(mesh: &TriMesh) -> SparseMatrix<f64> {
     let n = mesh.vertex_count();
-    let mut t = TripletMatrix::with_capacity(n, n, 12 * mesh.face_count());
+    // The diagonal is summed here and added to the sorted off-diagonal part: half the
+    // triplets to sort.
+    let mut t = TripletMatrix::with_capacity(n, n, 6 * mesh.face_count());
+    let mut diagonal = vec![0.0; n];
     let p = mesh.positions();
     for face in mesh.faces() {
         for corner in 0..3 {
             // The angle at `k` is opposite the edge `ij`.
             let (i, j, k) = (face[corner], face[(corner + 1) % 3], face[(corner + 2) % 3]);
             let half_cot = 0.5 * corner_cotangent(p[k], p[i], p[j]);
-            for (r, c, v) in [
-                (i, j, -half_cot),
-                (j, i, -half_cot),
-                (i, i, half_cot),
-                (j, j, half_cot),
-            ] {
-                t.push(r, c, v)
+            for (r, c) in [(i, j), (j, i)] {
+                t.push(r, c, -half_cot)
                     .expect("indices and values of a validated mesh are valid");
             }
+            diagonal[i] += half_cot;
+            diagonal[j] += half_cot;
         }
     }
-    t.to_csc()
+    SparseMatrix::linear_combination(
+        1.0,
+        &t.to_csc(),
+        1.0,
+        &SparseMatrix::from_diagonal(&diagonal),
+    )
+    .expect("two n × n matrices")
 }

@@ -133,44 +133,47 @@ pub(crate) struct EdgeUse {
 /// The uses of every edge of `faces`, sorted by edge and then face, so each edge's uses are
 /// contiguous (group them with `chunk_by(same_edge)`).
 ///
-/// A counting sort by the smaller vertex, then a sort of each vertex's few uses by the larger
-/// one: both stable, and the uses are generated in face order, so the result is ordered by
-/// `(lo, hi, face)` in linear time. A comparison sort of all `3|F|` uses cost more than any
-/// other step of reading a mesh, and every mesh is validated, and its topology found, through
-/// this function.
+/// A counting sort of the use indices `3 face + corner` by the smaller vertex, then a sort of
+/// each vertex's few uses by the larger one: both stable, and the indices are counted in face
+/// order, so the result is ordered by `(lo, hi, face)` in linear time. A comparison sort of all
+/// `3|F|` uses cost more than any other step of reading a mesh, and every mesh is validated,
+/// and its topology found, through this function; sorting indices and building each use once,
+/// in its final place, halves the memory it writes.
 pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
-    let uses: Vec<EdgeUse> = faces
-        .iter()
-        .enumerate()
-        .flat_map(|(face, f)| {
-            (0..3).map(move |c| {
-                let (a, b) = (f[c], f[(c + 1) % 3]);
-                let (ca, cb) = (3 * face + c, 3 * face + (c + 1) % 3);
-                EdgeUse {
-                    lo: a.min(b),
-                    hi: a.max(b),
-                    face,
-                    forward: a < b,
-                    corners: if a < b { [ca, cb] } else { [cb, ca] },
-                }
-            })
-        })
-        .collect();
-    let buckets = uses.iter().map(|u| u.lo + 1).max().unwrap_or(0);
+    let edge_use = |index: usize| {
+        let (face, c) = (index / 3, index % 3);
+        let f = faces[face];
+        let (a, b) = (f[c], f[(c + 1) % 3]);
+        let (ca, cb) = (3 * face + c, 3 * face + (c + 1) % 3);
+        EdgeUse {
+            lo: a.min(b),
+            hi: a.max(b),
+            face,
+            forward: a < b,
+            corners: if a < b { [ca, cb] } else { [cb, ca] },
+        }
+    };
+    let lo = |index: usize| {
+        let f = faces[index / 3];
+        f[index % 3].min(f[(index % 3 + 1) % 3])
+    };
+    let uses = 3 * faces.len();
+    let buckets = faces.iter().flatten().max().map_or(0, |&v| v + 1);
     let mut start = vec![0; buckets + 1];
-    for u in &uses {
-        start[u.lo + 1] += 1;
+    for index in 0..uses {
+        start[lo(index) + 1] += 1;
     }
     for v in 0..buckets {
         start[v + 1] += start[v];
     }
     let mut next = start.clone();
-    let mut order = vec![0; uses.len()];
-    for (i, u) in uses.iter().enumerate() {
-        order[next[u.lo]] = i;
-        next[u.lo] += 1;
+    let mut order = vec![0; uses];
+    for index in 0..uses {
+        let bucket = &mut next[lo(index)];
+        order[*bucket] = index;
+        *bucket += 1;
     }
-    let mut sorted: Vec<EdgeUse> = order.into_iter().map(|i| uses[i]).collect();
+    let mut sorted: Vec<EdgeUse> = order.into_iter().map(edge_use).collect();
     for v in 0..buckets {
         sorted[start[v]..start[v + 1]].sort_by_key(|u| u.hi);
     }
@@ -300,18 +303,29 @@ fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
             }
         }
     }
-    let mut vertex_fans: Vec<(usize, usize)> = (0..3 * faces.len())
-        .map(|c| (faces[c / 3][c % 3], fans.find(c)))
-        .collect();
-    vertex_fans.sort_unstable();
-    vertex_fans.dedup();
-    if let Some(group) = vertex_fans
-        .chunk_by(|a, b| a.0 == b.0)
-        .find(|g| g.len() > 1)
-    {
+    // Each vertex must see one fan. One pass notes the first fan seen at each vertex; only a
+    // failing mesh pays for counting the fans of the smallest vertex with several.
+    let vertex_of = |corner: usize| faces[corner / 3][corner % 3];
+    let mut fan_at = vec![None; faces.iter().flatten().max().map_or(0, |&v| v + 1)];
+    let mut split: Option<usize> = None;
+    for corner in 0..3 * faces.len() {
+        let (vertex, fan) = (vertex_of(corner), fans.find(corner));
+        match fan_at[vertex] {
+            None => fan_at[vertex] = Some(fan),
+            Some(seen) if seen != fan => split = Some(split.map_or(vertex, |s| s.min(vertex))),
+            Some(_) => {}
+        }
+    }
+    if let Some(vertex) = split {
+        let mut seen: Vec<usize> = (0..3 * faces.len())
+            .filter(|&corner| vertex_of(corner) == vertex)
+            .map(|corner| fans.find(corner))
+            .collect();
+        seen.sort_unstable();
+        seen.dedup();
         return Err(MeshError::NonManifoldVertex {
-            vertex: group[0].0,
-            fans: group.len(),
+            vertex,
+            fans: seen.len(),
         });
     }
     Ok(())

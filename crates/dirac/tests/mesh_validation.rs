@@ -181,6 +181,27 @@ fn a_bowtie_vertex_is_non_manifold() {
 }
 
 #[test]
+fn the_smallest_split_vertex_is_named_with_all_its_fans() {
+    // Points on a helix: no three collinear, so every triangle has a shape.
+    let p: Vec<[f64; 3]> = (0..15)
+        .map(|v| [f64::cos(v as f64), f64::sin(v as f64), 0.3 * v as f64])
+        .collect();
+    // Vertex 9 joins two triangles (first in face order), vertex 2 three.
+    let faces = vec![
+        [9, 10, 11],
+        [9, 12, 13],
+        [2, 3, 4],
+        [2, 5, 6],
+        [2, 7, 8],
+        [0, 1, 14],
+    ];
+    assert_eq!(
+        TriMesh::new(p, faces),
+        Err(MeshError::NonManifoldVertex { vertex: 2, fans: 3 })
+    );
+}
+
+#[test]
 fn two_closed_surfaces_touching_at_a_vertex_are_non_manifold() {
     // Two tetrahedra sharing vertex 0: every edge is manifold, the vertex is not.
     let p = vec![

@@ -331,6 +331,7 @@ impl Job<'_> {
         drop(bytes);
         let PreparedMesh {
             mesh,
+            topology,
             report: preparation,
             ..
         } = match prepared {
@@ -340,6 +341,7 @@ impl Job<'_> {
         let mut report = Report::new(
             name.clone(),
             &mesh,
+            topology,
             RunSettings::new(&self.args.solve, &self.options),
             start.elapsed(),
         );

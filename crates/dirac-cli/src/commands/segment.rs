@@ -236,7 +236,9 @@ pub fn run(args: &SegmentArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let kind = output(args)?;
     let consensus = consensus_options(args)?;
-    let PreparedMesh { mesh, name, report } = args
+    let PreparedMesh {
+        mesh, name, report, ..
+    } = args
         .solve
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;

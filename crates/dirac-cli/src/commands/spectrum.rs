@@ -50,13 +50,14 @@ pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     let PreparedMesh {
         mesh,
         name,
+        topology,
         report: preparation,
     } = prepared;
     let load_time = start.elapsed();
 
     let mut settings = RunSettings::new(&args.solve, &options);
     settings.relative_to = (args.reference.relative_to.as_ref()).map(|p| p.display().to_string());
-    let mut report = Report::new(name, &mesh, settings, load_time);
+    let mut report = Report::new(name, &mesh, topology, settings, load_time);
     report.preparation = Some(preparation);
 
     let solved = solve(
@@ -69,7 +70,8 @@ pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     report.set_spectrum(&solved.spectrum, solved.elapsed);
     report.converged = solved.converged;
 
-    let mut out = io::stdout().lock();
+    // Standard output flushes at every newline; the report is written in one go.
+    let mut out = io::BufWriter::new(io::stdout().lock());
     if args.json {
         write_json(&report, &mut out)
     } else {

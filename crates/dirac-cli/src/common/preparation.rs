@@ -8,7 +8,7 @@ use clap::Args;
 use clap::error::ErrorKind;
 use dirac::io::{RawMesh, read_raw};
 use dirac::repair::{RepairOptions, RepairReport, repair};
-use dirac::{ComponentSelection, TriMesh, default_mesh};
+use dirac::{ComponentSelection, Topology, TriMesh, default_mesh};
 use serde::{Serialize, Serializer};
 
 use crate::common::error::CliError;
@@ -83,6 +83,9 @@ pub struct PreparedMesh {
     pub mesh: TriMesh,
     /// The file as given, or [`DEFAULT_MESH_NAME`].
     pub name: String,
+    /// The mesh's components, boundary loops and genus (found once: validating and finding the
+    /// topology each sort every edge of the mesh).
+    pub topology: Topology,
     /// What preparing it did.
     pub report: PreparationReport,
 }
@@ -139,21 +142,25 @@ impl MeshPreparation {
         } else {
             (raw.into_mesh_of(path)?, None)
         };
-        let components = mesh.topology().components.len();
-        let mesh = match self.options.component {
-            ComponentSelection::All => mesh,
+        let topology = mesh.topology();
+        let components = topology.components.len();
+        let (mesh, topology) = match self.options.component {
+            ComponentSelection::All => (mesh, topology),
             selection => {
-                mesh.select_component(selection)
-                    .map_err(|source| CliError::Component {
-                        mesh: name.clone(),
-                        source,
-                    })?
-                    .0
+                let (selected, _) =
+                    mesh.select_component(selection)
+                        .map_err(|source| CliError::Component {
+                            mesh: name.clone(),
+                            source,
+                        })?;
+                let topology = selected.topology();
+                (selected, topology)
             }
         };
         Ok(PreparedMesh {
             mesh,
             name,
+            topology,
             report: PreparationReport {
                 repair: repair_report,
                 components,

@@ -199,9 +199,15 @@ pub struct Timings {
 }
 
 impl Report {
-    /// The report of a run on `mesh` (named `name`, read in `load`) before its spectrum is
-    /// known: no eigenvalues yet, `converged` true.
-    pub fn new(name: String, mesh: &TriMesh, settings: RunSettings, load: Duration) -> Self {
+    /// The report of a run on `mesh` (named `name`, of the given topology, read in `load`)
+    /// before its spectrum is known: no eigenvalues yet, `converged` true.
+    pub fn new(
+        name: String,
+        mesh: &TriMesh,
+        topology: Topology,
+        settings: RunSettings,
+        load: Duration,
+    ) -> Self {
         Self {
             mesh: name,
             mesh_sha256: None,
@@ -209,7 +215,7 @@ impl Report {
             saved: BTreeMap::new(),
             vertices: mesh.vertex_count(),
             faces: mesh.face_count(),
-            topology: mesh.topology(),
+            topology,
             settings,
             converged: true,
             eigenvalues: Vec::new(),
