@@ -42,8 +42,16 @@ use partition::{TwoWaySplit, split_for_two_threads};
 /// Marks an input entry above the diagonal, which the factorisation does not read.
 const SKIPPED: usize = usize::MAX;
 /// With [`SolveThreads::Automatic`], factors with at least this many stored reals are computed
-/// and solved on two threads: below it, starting a thread costs more than it saves.
-const PARALLEL_SOLVE_REALS: usize = 1 << 18;
+/// on two threads: below it, starting a thread costs more than it saves.
+const PARALLEL_FACTOR_REALS: usize = 1 << 18;
+/// With [`SolveThreads::Automatic`], factors with at least this many stored reals are solved
+/// on two threads. A solve does a few operations per stored real where the factorisation
+/// does many, and starting the helper costs 50–90 µs on the Xeon host of docs/PERFORMANCE.md:
+/// one right-hand side of a 10k-vertex Laplacian (642k reals) solves as fast on one thread as
+/// on two, one of a 25k-vertex one (993k reals) 1.5× faster on two. The choice depends on the
+/// factor alone, so a column's solution is the same bit for bit whatever columns share its
+/// solve.
+const PARALLEL_SOLVE_REALS: usize = 1 << 19;
 
 /// How the numeric factorisation and the triangular solves use threads: two threads work on
 /// the two groups of subtrees of the elimination tree ([`CholeskyStats::split_columns`]), then
@@ -54,9 +62,10 @@ pub enum SolveThreads {
     One,
     /// Two threads whenever the elimination tree splits well (see [`CholeskyStats::split_columns`]).
     Two,
-    /// Two threads when the tree splits well, the factor holds at least `2¹⁸` reals, the
-    /// machine has two cores, and the caller is not itself a rayon worker (a parallel batch of
-    /// problems already keeps the cores busy); otherwise one.
+    /// Two threads when the tree splits well, the factor is large enough (at least `2¹⁸` stored
+    /// reals for the factorisation, `2¹⁹` for the solves), the machine has two cores, and the
+    /// caller is not itself a rayon worker (a parallel batch of problems already keeps the
+    /// cores busy); otherwise one.
     #[default]
     Automatic,
 }
@@ -514,7 +523,7 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         {
             return Err(CholeskyError::PatternMismatch);
         }
-        let split = self.two_threads();
+        let split = self.two_threads(PARALLEL_FACTOR_REALS);
         let values = &mut self.values;
         values.fill(T::zero());
         for (k, &v) in a.values.iter().enumerate() {
@@ -646,17 +655,18 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
         self.check_rhs(x.len(), ncols)?;
-        self.forward(x, ncols, work, self.two_threads());
+        self.forward(x, ncols, work, self.two_threads(PARALLEL_SOLVE_REALS));
         Ok(())
     }
 
-    /// The split for two threads, if the solves are to use it ([`SolveThreads`]).
-    fn two_threads(&self) -> Option<TwoWaySplit> {
+    /// The split for two threads, if the work is to use it ([`SolveThreads`]; `threshold` is
+    /// the smallest factor, in stored reals, the automatic choice splits).
+    fn two_threads(&self, threshold: usize) -> Option<TwoWaySplit> {
         let use_two = match self.threads {
             SolveThreads::One => false,
             SolveThreads::Two => true,
             SolveThreads::Automatic => {
-                self.values.len() * T::REAL_DIM >= PARALLEL_SOLVE_REALS
+                self.values.len() * T::REAL_DIM >= threshold
                     && crate::threads::second_thread_allowed()
             }
         };
@@ -787,7 +797,7 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
         self.check_rhs(x.len(), ncols)?;
-        self.backward(x, ncols, work, self.two_threads());
+        self.backward(x, ncols, work, self.two_threads(PARALLEL_SOLVE_REALS));
         Ok(())
     }
 
