@@ -153,10 +153,7 @@ pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
             corners: if a < b { [ca, cb] } else { [cb, ca] },
         }
     };
-    let lo = |index: usize| {
-        let f = faces[index / 3];
-        f[index % 3].min(f[(index % 3 + 1) % 3])
-    };
+    let lo = |index: usize| edge_use(index).lo;
     let uses = 3 * faces.len();
     let buckets = faces.iter().flatten().max().map_or(0, |&v| v + 1);
     let mut start = vec![0; buckets + 1];
@@ -277,8 +274,9 @@ pub(crate) fn check_face_shape(
     Ok(())
 }
 
-/// Edge-manifold, consistently oriented and vertex-manifold. Expects valid indices.
-fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
+/// Edge-manifold, consistently oriented and vertex-manifold. Expects indices below
+/// `vertex_count`.
+fn check_manifold(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshError> {
     // Corners around one vertex are joined when their faces share an edge at it; each
     // resulting class is one fan.
     let mut fans = DisjointSets::new(3 * faces.len());
@@ -306,7 +304,7 @@ fn check_manifold(faces: &[[usize; 3]]) -> Result<(), MeshError> {
     // Each vertex must see one fan. One pass notes the first fan seen at each vertex; only a
     // failing mesh pays for counting the fans of the smallest vertex with several.
     let vertex_of = |corner: usize| faces[corner / 3][corner % 3];
-    let mut fan_at = vec![None; faces.iter().flatten().max().map_or(0, |&v| v + 1)];
+    let mut fan_at = vec![None; vertex_count];
     let mut split: Option<usize> = None;
     for corner in 0..3 * faces.len() {
         let (vertex, fan) = (vertex_of(corner), fans.find(corner));
@@ -407,7 +405,7 @@ impl TriMesh {
             return Err(MeshError::UnreferencedVertex { vertex });
         }
         check_geometry(&positions, &faces)?;
-        check_manifold(&faces)?;
+        check_manifold(positions.len(), &faces)?;
         Ok(Self { positions, faces })
     }
 
@@ -421,7 +419,7 @@ impl TriMesh {
     ) -> Result<(Self, Vec<Option<usize>>), MeshError> {
         check_indices(positions.len(), &faces)?;
         check_geometry(&positions, &faces)?;
-        check_manifold(&faces)?;
+        check_manifold(positions.len(), &faces)?;
         let used = referenced(positions.len(), &faces);
         let mut new_index = vec![0; positions.len()];
         let mut old_to_new = vec![None; positions.len()];
