@@ -152,10 +152,7 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         let q = self.reals_mut(start, y.nrows());
         if two_threads {
             let (top, bottom) = q.split_at_row_mut(rows / 2);
-            std::thread::scope(|scope| {
-                scope.spawn(|| combine_rows(bottom, y));
-                combine_rows(top, y);
-            });
+            qsparse::threads::join(|| combine_rows(top, y), || combine_rows(bottom, y));
         } else {
             combine_rows(q, y);
         }
@@ -372,18 +369,20 @@ fn pass<V: Scalar<Real = f64>>(
     let (first, second) = w.split_at_mut(split);
     let exchange = Exchange::new();
     let exchange = &exchange;
-    std::thread::scope(|scope| {
-        scope.spawn(|| {
+    qsparse::threads::join_concurrently(
+        || {
+            let _abandon = Abandon(&exchange.published[0]);
+            sweep(basis, m, 0..split, first, Some(coef), |i, c| {
+                exchange.total(0, i, c)
+            });
+        },
+        || {
             let _abandon = Abandon(&exchange.published[1]);
             sweep(basis, m, split..n, second, None, |i, c| {
                 exchange.total(1, i, c)
             });
-        });
-        let _abandon = Abandon(&exchange.published[0]);
-        sweep(basis, m, 0..split, first, Some(coef), |i, c| {
-            exchange.total(0, i, c)
-        });
-    });
+        },
+    );
 }
 
 /// Columns per step of a sweep: the update by a group and the coefficients of the next
@@ -442,7 +441,8 @@ fn sweep<V: Scalar<Real = f64>>(
 }
 
 /// Marks a thread's side of an [`Exchange`] as abandoned if the thread panics, so that the
-/// other thread stops waiting (and the scope then propagates the panic) instead of hanging.
+/// other thread stops waiting (and [`qsparse::threads::join_concurrently`] then raises the
+/// panic) instead of hanging.
 struct Abandon<'a>(&'a AtomicUsize);
 
 impl Drop for Abandon<'_> {

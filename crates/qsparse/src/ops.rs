@@ -6,10 +6,11 @@ use qscalar::Scalar;
 
 use crate::{SparseError, SparseMatrix, threads, vector};
 
-/// Stored reals from which [`SparseMatrix::mul_vec`] runs on two threads: below it (about
-/// 130,000 quaternion entries, a mesh of 20,000 vertices) starting the helper costs as much
-/// as it saves (measured: 0.22 → 0.28 ms at 70,000 entries, 1.05 → 0.81 ms at 290,000).
-const PARALLEL_PRODUCT_REALS: usize = 1 << 19;
+/// Stored reals from which [`SparseMatrix::mul_vec`] and [`SparseMatrix::adjoint_mul_vec`]
+/// run on two threads: with the waiting helper ([`threads::join`]) the same as the solves'
+/// threshold, so that one step's products and solves split alike. (When a thread was started
+/// per product, the split paid only from about 130,000 quaternion entries.)
+const PARALLEL_PRODUCT_REALS: usize = 1 << 16;
 
 impl<T: Scalar> SparseMatrix<T> {
     fn check_dim(
@@ -43,10 +44,10 @@ impl<T: Scalar> SparseMatrix<T> {
         if two_threads {
             let split = self.nrows / 2;
             let (top, bottom) = y.split_at_mut(split);
-            std::thread::scope(|scope| {
-                scope.spawn(|| self.scatter_rows(x, bottom, split));
-                self.scatter_rows(x, top, 0);
-            });
+            threads::join(
+                || self.scatter_rows(x, top, 0),
+                || self.scatter_rows(x, bottom, split),
+            );
         } else {
             self.scatter_rows(x, y, 0);
         }
@@ -94,10 +95,10 @@ impl<T: Scalar> SparseMatrix<T> {
         if two_threads {
             let split = self.col_ptr.partition_point(|&p| p < self.nnz() / 2);
             let (first, second) = y.split_at_mut(split.min(self.ncols));
-            std::thread::scope(|scope| {
-                scope.spawn(|| self.gather_columns(x, second, split));
-                self.gather_columns(x, first, 0);
-            });
+            threads::join(
+                || self.gather_columns(x, first, 0),
+                || self.gather_columns(x, second, split),
+            );
         } else {
             self.gather_columns(x, y, 0);
         }

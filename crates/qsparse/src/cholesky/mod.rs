@@ -42,16 +42,19 @@ use partition::{TwoWaySplit, split_for_two_threads};
 /// Marks an input entry above the diagonal, which the factorisation does not read.
 const SKIPPED: usize = usize::MAX;
 /// With [`SolveThreads::Automatic`], factors with at least this many stored reals are computed
-/// on two threads: below it, starting a thread costs more than it saves.
+/// on two threads: below it the split does not pay (set when a thread was started per
+/// factorisation; with the waiting helper, 2¹⁶ left fertility's 156k-real Laplace factor at
+/// 6–7 ms, faer's ordering being most of it).
 const PARALLEL_FACTOR_REALS: usize = 1 << 18;
 /// With [`SolveThreads::Automatic`], factors with at least this many stored reals are solved
-/// on two threads. A solve does a few operations per stored real where the factorisation
-/// does many, and starting the helper costs 50–90 µs on the Xeon host of docs/PERFORMANCE.md:
-/// one right-hand side of a 10k-vertex Laplacian (642k reals) solves as fast on one thread as
-/// on two, one of a 25k-vertex one (993k reals) 1.5× faster on two. The choice depends on the
-/// factor alone, so a column's solution is the same bit for bit whatever columns share its
-/// solve.
-const PARALLEL_SOLVE_REALS: usize = 1 << 19;
+/// on two threads. Handing half a solve to the waiting helper ([`crate::threads::join`])
+/// costs a few microseconds, where starting a thread cost 50–90 µs (and the threshold was
+/// 2¹⁹). Chosen on whole spectra, where solves follow each other closely: Laplace spectra
+/// of 3k–11k-vertex meshes (factors of 90k–400k reals) ran 1–18 % faster with it on a quiet
+/// machine (docs/PERFORMANCE.md, "A helper thread that stays"); an isolated solve of a 23k-real
+/// factor does not gain. The choice depends on the factor alone, so a column's solution is the
+/// same bit for bit whatever columns share its solve.
+const PARALLEL_SOLVE_REALS: usize = 1 << 16;
 
 /// How the numeric factorisation and the triangular solves use threads: two threads work on
 /// the two groups of subtrees of the elimination tree ([`CholeskyStats::split_columns`]), then
@@ -546,13 +549,10 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                 let (first_end, second_end, _, _) = sym.bounds(Some(split));
                 let (low, _) = values.split_at_mut(sym.value_ptr[second_end]);
                 let (first, second) = low.split_at_mut(sym.value_ptr[first_end]);
-                let (first, second) = std::thread::scope(|scope| {
-                    let helper = scope.spawn(|| {
-                        factor_range(sym, first_end..second_end, second, sym.value_ptr[first_end])
-                    });
-                    let first = factor_range(sym, 0..first_end, first, 0);
-                    (first, helper.join().expect("factorisation thread"))
-                });
+                let (first, second) = crate::threads::join(
+                    || factor_range(sym, 0..first_end, first, 0),
+                    || factor_range(sym, first_end..second_end, second, sym.value_ptr[first_end]),
+                );
                 first.and(second)?;
                 factor_range(sym, second_end..sym.supernodes(), values, 0)
             }
@@ -703,8 +703,9 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                 lows.iter_mut().map(|c| c.split_at_mut(c1)).unzip();
             let mut first_tops = columns_mut(first_buffer, buffer_len, ncols);
             let mut second_tops = columns_mut(second_buffer, buffer_len, ncols);
-            std::thread::scope(|scope| {
-                let helper = scope.spawn(|| {
+            crate::threads::join(
+                || self.forward_range(0..first_end, &mut firsts, 0, &mut first_tops, c2),
+                || {
                     self.forward_range(
                         first_end..second_end,
                         &mut seconds,
@@ -712,10 +713,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                         &mut second_tops,
                         c2,
                     );
-                });
-                self.forward_range(0..first_end, &mut firsts, 0, &mut first_tops, c2);
-                helper.join().expect("forward substitution thread");
-            });
+                },
+            );
             for ((top, first), second) in tops.iter_mut().zip(&first_tops).zip(&second_tops) {
                 for ((t, a), b) in top.iter_mut().zip(first.iter()).zip(second.iter()) {
                     *t += *a + *b;
@@ -820,13 +819,10 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             let (mut firsts, mut seconds): (Vec<&mut [T]>, Vec<&mut [T]>) =
                 lows.iter_mut().map(|c| c.split_at_mut(c1)).unzip();
             let tops: Vec<&[T]> = tops.iter().map(|t| &**t).collect();
-            std::thread::scope(|scope| {
-                let helper = scope.spawn(|| {
-                    self.backward_range(first_end..second_end, &mut seconds, c1, &tops, c2);
-                });
-                self.backward_range(0..first_end, &mut firsts, 0, &tops, c2);
-                helper.join().expect("backward substitution thread");
-            });
+            crate::threads::join(
+                || self.backward_range(0..first_end, &mut firsts, 0, &tops, c2),
+                || self.backward_range(first_end..second_end, &mut seconds, c1, &tops, c2),
+            );
         }
         drop((lows, tops));
         for (column, solved) in x.chunks_exact_mut(n).zip(work.chunks_exact(n)) {
