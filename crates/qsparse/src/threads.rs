@@ -60,7 +60,7 @@ pub fn second_thread_allowed() -> bool {
 /// How long a waiting thread spins before it sleeps: long enough to span the gap between two
 /// split kernels that follow each other (the two triangular solves of an operator application),
 /// short enough that a helper spinning in vain costs little on a machine whose other core is
-/// busy. Measured on the Xeon host (docs/PERFORMANCE.md, "A helper thread that stays"): 50 µs
+/// busy. Measured on an AMD EPYC host (docs/PERFORMANCE.md, "A helper thread that stays"): 50 µs
 /// made small Laplace spectra 8–20 % faster on a quiet machine and 5–15 % slower with another
 /// process busy; 10 µs gives 1–18 % and 0–6 %.
 const SPIN: Duration = Duration::from_micros(10);
@@ -169,7 +169,8 @@ impl Lease {
             work: UnsafeCell::new(Some(second)),
             result: UnsafeCell::new(None),
         };
-        let job = std::ptr::from_ref(&task.job).cast_mut();
+        // From the whole task, not its `job` field: the helper reaches `work` and `result`.
+        let job = std::ptr::from_ref(&task).cast::<Job>().cast_mut();
         MAILBOX.store(job, Ordering::Release);
         self.helper.thread.unpark();
         let first = catch_unwind(AssertUnwindSafe(first));
