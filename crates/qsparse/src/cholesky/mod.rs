@@ -63,10 +63,12 @@ const PARALLEL_SOLVE_REALS: usize = 1 << 16;
 pub enum SolveThreads {
     /// The calling thread only.
     One,
-    /// Two threads whenever the elimination tree splits well (see [`CholeskyStats::split_columns`]).
+    /// Two threads whenever the elimination tree splits well (see [`CholeskyStats::split_columns`]):
+    /// the second group on the process's helper thread ([`crate::threads::join`]), or on the
+    /// calling thread after the first when the helper is late or held by another computation.
     Two,
     /// Two threads when the tree splits well, the factor is large enough (at least `2¹⁸` stored
-    /// reals for the factorisation, `2¹⁹` for the solves), the machine has two cores, and the
+    /// reals for the factorisation, `2¹⁶` for the solves), the machine has two cores, and the
     /// caller is not itself a rayon worker (a parallel batch of problems already keeps the
     /// cores busy); otherwise one.
     #[default]
