@@ -254,6 +254,22 @@ def test_one_thread_by_default():
     assert ds.spectrum(V, F, k=4, threads=2).k == 4
 
 
+def _spectrum_in_a_worker(V, F):
+    return ds.spectrum(V, F, k=8, threads=2).eigenvalues
+
+
+def test_a_forked_worker_solves_after_the_parent_used_two_threads():
+    # The parent's helper thread does not exist in a child made by fork: the child must not
+    # wait for it, and computes the same halves on its own threads, so the same numbers.
+    import multiprocessing
+
+    V, F = torus(160, 60)
+    parent = ds.spectrum(V, F, k=8, threads=2).eigenvalues
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        child = pool.apply_async(_spectrum_in_a_worker, (V, F)).get(timeout=120)
+    np.testing.assert_array_equal(child, parent)
+
+
 def test_the_gil_is_released_during_a_solve():
     V, F = torus(160, 60)
     done = threading.Event()

@@ -37,9 +37,10 @@
 //! ([`qsparse::threads::second_thread_allowed`]: not from a rayon worker, so a parallel batch
 //! of problems does not oversubscribe): the native backend's triangular solves
 //! ([`qsparse::SolveThreads`]) and the Gram–Schmidt passes over long vectors (rows split,
-//! partial coefficients exchanged per column and added in a fixed order). The Ritz vectors of
-//! a restart use faer's `Par::rayon`; every other faer call runs with `Par::Seq`. Results do not
-//! depend on timing. [`threads::set_second_thread_allowed`]`(false)` keeps everything on the
+//! partial coefficients exchanged per column and added in a fixed order), the Ritz vectors of
+//! a restart (rows split) and large sparse products. The second thread is one helper that
+//! waits between pieces of work ([`qsparse::threads::join`]); faer runs with `Par::Seq`.
+//! Results do not depend on timing. [`threads::set_second_thread_allowed`]`(false)` keeps everything on the
 //! calling thread.
 
 mod backend;
