@@ -6,12 +6,6 @@ use qscalar::Scalar;
 
 use crate::{SparseError, SparseMatrix, threads, vector};
 
-/// Stored reals from which [`SparseMatrix::mul_vec`] and [`SparseMatrix::adjoint_mul_vec`]
-/// run on two threads: with the waiting helper ([`threads::join`]) the same as the solves'
-/// threshold, so that one step's products and solves split alike. (When a thread was started
-/// per product, the split paid only from about 130,000 quaternion entries.)
-const PARALLEL_PRODUCT_REALS: usize = 1 << 16;
-
 impl<T: Scalar> SparseMatrix<T> {
     fn check_dim(
         &self,
@@ -40,7 +34,7 @@ impl<T: Scalar> SparseMatrix<T> {
         self.check_dim(x.len(), self.ncols, "x in A x")?;
         self.check_dim(y.len(), self.nrows, "y in A x")?;
         let two_threads =
-            self.nnz() * T::REAL_DIM >= PARALLEL_PRODUCT_REALS && threads::second_thread_allowed();
+            self.nnz() * T::REAL_DIM >= threads::SPLIT_REALS && threads::second_thread_allowed();
         if two_threads {
             let split = self.nrows / 2;
             let (top, bottom) = y.split_at_mut(split);
@@ -91,7 +85,7 @@ impl<T: Scalar> SparseMatrix<T> {
         self.check_dim(x.len(), self.nrows, "x in Aᴴ x")?;
         self.check_dim(y.len(), self.ncols, "y in Aᴴ x")?;
         let two_threads =
-            self.nnz() * T::REAL_DIM >= PARALLEL_PRODUCT_REALS && threads::second_thread_allowed();
+            self.nnz() * T::REAL_DIM >= threads::SPLIT_REALS && threads::second_thread_allowed();
         if two_threads {
             let split = self.col_ptr.partition_point(|&p| p < self.nnz() / 2);
             let (first, second) = y.split_at_mut(split.min(self.ncols));

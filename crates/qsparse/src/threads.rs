@@ -57,6 +57,16 @@ pub fn second_thread_allowed() -> bool {
         && rayon::current_thread_index().is_none()
 }
 
+/// Stored reals of a sparse operand (a factor to solve with, a matrix to multiply by) from
+/// which its sweeps are split between two threads, with the waiting helper ([`join`]).
+/// Handing half a sweep to the helper costs a few microseconds, where starting a thread cost
+/// 50–90 µs (and the threshold was 2¹⁹). Chosen on whole spectra, where solves and products
+/// follow each other closely: Laplace spectra of 3k–11k-vertex meshes (factors of 90k–400k
+/// reals) ran 1–18 % faster with it on a quiet machine (docs/PERFORMANCE.md, "A helper thread
+/// that stays"); an isolated solve of a 23k-real factor does not gain. Solves and products
+/// share it so that one Lanczos step's kernels split alike.
+pub const SPLIT_REALS: usize = 1 << 16;
+
 /// How long a waiting thread spins before it sleeps: long enough to span the gap between two
 /// split kernels that follow each other (the two triangular solves of an operator application),
 /// short enough that a helper spinning in vain costs little on a machine whose other core is

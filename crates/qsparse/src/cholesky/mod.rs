@@ -46,15 +46,6 @@ const SKIPPED: usize = usize::MAX;
 /// factorisation; with the waiting helper, 2¹⁶ left fertility's 156k-real Laplace factor at
 /// 6–7 ms, faer's ordering being most of it).
 const PARALLEL_FACTOR_REALS: usize = 1 << 18;
-/// With [`SolveThreads::Automatic`], factors with at least this many stored reals are solved
-/// on two threads. Handing half a solve to the waiting helper ([`crate::threads::join`])
-/// costs a few microseconds, where starting a thread cost 50–90 µs (and the threshold was
-/// 2¹⁹). Chosen on whole spectra, where solves follow each other closely: Laplace spectra
-/// of 3k–11k-vertex meshes (factors of 90k–400k reals) ran 1–18 % faster with it on a quiet
-/// machine (docs/PERFORMANCE.md, "A helper thread that stays"); an isolated solve of a 23k-real
-/// factor does not gain. The choice depends on the factor alone, so a column's solution is the
-/// same bit for bit whatever columns share its solve.
-const PARALLEL_SOLVE_REALS: usize = 1 << 16;
 
 /// How the numeric factorisation and the triangular solves use threads: two threads work on
 /// the two groups of subtrees of the elimination tree ([`CholeskyStats::split_columns`]), then
@@ -67,10 +58,10 @@ pub enum SolveThreads {
     /// the second group on the process's helper thread ([`crate::threads::join`]), or on the
     /// calling thread after the first when the helper is late or held by another computation.
     Two,
-    /// Two threads when the tree splits well, the factor is large enough (at least `2¹⁸` stored
-    /// reals for the factorisation, `2¹⁶` for the solves), the machine has two cores, and the
-    /// caller is not itself a rayon worker (a parallel batch of problems already keeps the
-    /// cores busy); otherwise one.
+    /// Two threads when the tree splits well, the factor is large enough (at least `2¹⁸`
+    /// stored reals for the factorisation, [`crate::threads::SPLIT_REALS`] for the solves),
+    /// the machine has two cores, and the caller is not itself a rayon worker (a parallel batch
+    /// of problems already keeps the cores busy); otherwise one.
     #[default]
     Automatic,
 }
@@ -657,7 +648,12 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
         self.check_rhs(x.len(), ncols)?;
-        self.forward(x, ncols, work, self.two_threads(PARALLEL_SOLVE_REALS));
+        self.forward(
+            x,
+            ncols,
+            work,
+            self.two_threads(crate::threads::SPLIT_REALS),
+        );
         Ok(())
     }
 
@@ -798,7 +794,12 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         work: &mut Vec<T>,
     ) -> Result<(), CholeskyError> {
         self.check_rhs(x.len(), ncols)?;
-        self.backward(x, ncols, work, self.two_threads(PARALLEL_SOLVE_REALS));
+        self.backward(
+            x,
+            ncols,
+            work,
+            self.two_threads(crate::threads::SPLIT_REALS),
+        );
         Ok(())
     }
 
