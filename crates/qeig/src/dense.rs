@@ -66,6 +66,109 @@ pub(crate) fn real_symmetric_eigen(
     Ok(((0..n).map(|i| s[i]).collect(), u))
 }
 
+/// `√(a² + b²)` without overflow or underflow of the squares, faster than `f64::hypot`.
+fn norm_of_pair(a: f64, b: f64) -> f64 {
+    let (a, b) = (a.abs(), b.abs());
+    let (large, small) = if a >= b { (a, b) } else { (b, a) };
+    if large == 0.0 {
+        return 0.0;
+    }
+    let ratio = small / large;
+    large * (1.0 + ratio * ratio).sqrt()
+}
+
+/// Most implicit QL sweeps per eigenvalue in [`tridiagonal_values_and_last_components`] (two
+/// or three suffice for almost every eigenvalue; LAPACK's `dsteqr` allows 30).
+const QL_SWEEPS: usize = 30;
+
+/// Eigenvalues (ascending) of the real symmetric tridiagonal matrix `T` with diagonal
+/// `diagonal` and off-diagonal `off` (`off[i] = T[i + 1, i]`), each with `|zₙ₋₁|`, the last
+/// component of its unit eigenvector `z`.
+///
+/// The implicit QL algorithm with Wilkinson shifts: each sweep chases a bulge with plane
+/// rotations `G` from the bottom of an unreduced block to its top, `T ← Gᵀ T G`, and the
+/// eigenvector matrix `Z ← Z G` (from `Z = I`) is carried for its last row only, which is all
+/// a Lanczos residual estimate `|β zₙ₋₁|` needs: `O(n²)` operations where the eigenvectors
+/// cost `O(n³)`. A block splits off when `|T[m + 1, m]| ≤ ε (|T[m, m]| + |T[m + 1, m + 1]|)`.
+/// The rotations are orthogonal, so the last components are accurate to about `ε` in
+/// absolute terms, the eigenvalues to about `ε ‖T‖`, as with a full eigensolver.
+pub(crate) fn tridiagonal_values_and_last_components(
+    diagonal: &[f64],
+    off: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>), DenseEigenError> {
+    let n = diagonal.len();
+    if diagonal.iter().chain(off).any(|v| !v.is_finite()) {
+        return Err(DenseEigenError { order: n });
+    }
+    if n == 0 {
+        return Ok((Vec::new(), Vec::new()));
+    }
+    let mut d = diagonal.to_vec();
+    // e[i] couples i and i + 1; e[n − 1] = 0 is room the sweeps write to.
+    let mut e = off[..n - 1].to_vec();
+    e.push(0.0);
+    let mut z = vec![0.0; n];
+    z[n - 1] = 1.0;
+    for l in 0..n {
+        let mut sweeps = 0;
+        loop {
+            // The unreduced block starting at l ends at m.
+            let mut m = l;
+            while m + 1 < n && e[m].abs() > f64::EPSILON * (d[m].abs() + d[m + 1].abs()) {
+                m += 1;
+            }
+            if m == l {
+                break;
+            }
+            sweeps += 1;
+            if sweeps > QL_SWEEPS {
+                return Err(DenseEigenError { order: n });
+            }
+            // The shift: the eigenvalue of the leading 2×2 block nearer to d[l].
+            let g = (d[l + 1] - d[l]) / (2.0 * e[l]);
+            let r = (g * g + 1.0).sqrt();
+            let mut g = d[m] - d[l] + e[l] / (g + r.copysign(g));
+            let (mut s, mut c, mut p) = (1.0, 1.0, 0.0);
+            let mut split = false;
+            for i in (l..m).rev() {
+                let f = s * e[i];
+                let b = c * e[i];
+                let r = norm_of_pair(f, g);
+                e[i + 1] = r;
+                if r == 0.0 {
+                    // The bulge vanished: the block splits at i + 1; sweep again.
+                    d[i + 1] -= p;
+                    e[m] = 0.0;
+                    split = true;
+                    break;
+                }
+                s = f / r;
+                c = g / r;
+                g = d[i + 1] - p;
+                let t = (d[i] - g) * s + 2.0 * c * b;
+                p = s * t;
+                d[i + 1] = g + p;
+                g = c * t - b;
+                // Columns i, i + 1 of Z, last row only.
+                let zi = z[i + 1];
+                z[i + 1] = s * z[i] + c * zi;
+                z[i] = c * z[i] - s * zi;
+            }
+            if !split {
+                d[l] -= p;
+                e[l] = g;
+                e[m] = 0.0;
+            }
+        }
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| d[a].total_cmp(&d[b]));
+    Ok((
+        order.iter().map(|&i| d[i]).collect(),
+        order.iter().map(|&i| z[i].abs()).collect(),
+    ))
+}
+
 fn check_square<T>(a: &DenseMatrix<T>, which: &'static str) -> Result<(), EigError<T>>
 where
     T: Scalar<Real = f64>,
@@ -158,11 +261,19 @@ fn polar<T: Scalar<Real = f64>>(x: T) -> (T, f64) {
 /// rounding.
 const NEGLIGIBLE: f64 = 1e-150;
 
-/// The Householder reduction of the full Hermitian `h` to a real tridiagonal matrix, its
-/// eigenpairs, and the eigenvectors carried back (module documentation).
-fn tridiagonal_eigen<T: Scalar<Real = f64>>(
-    mut h: DenseMatrix<T>,
-) -> Result<DenseEigen<T>, DenseEigenError> {
+/// The Householder reflectors `(v, τ)` of a reduction to tridiagonal form (`τ = 0`: none
+/// needed) and the subdiagonal `tᵢ` it leaves.
+pub(crate) struct Tridiagonal<T> {
+    pub reflectors: Vec<(Vec<T>, f64)>,
+    pub sub: Vec<T>,
+}
+
+/// Reduces the full Hermitian `h` in place to `H_{n−2} ⋯ H₀ h H₀ ⋯ H_{n−2}`, whose diagonal (in
+/// `h`) and subdiagonal (returned) are the tridiagonal matrix; the other entries of `h` are left
+/// stale. Reflector `Hₖ` acts on indices `k + 1..`, so `e₀` is fixed: `H e₀ = e₀` for the product.
+pub(crate) fn reduce_to_tridiagonal<T: Scalar<Real = f64>>(
+    h: &mut DenseMatrix<T>,
+) -> Tridiagonal<T> {
     let n = h.nrows();
     let mut reflectors: Vec<(Vec<T>, f64)> = Vec::with_capacity(n.saturating_sub(1));
     let mut sub = vec![T::zero(); n.saturating_sub(1)];
@@ -203,6 +314,16 @@ fn tridiagonal_eigen<T: Scalar<Real = f64>>(
         }
         reflectors.push((v, tau));
     }
+    Tridiagonal { reflectors, sub }
+}
+
+/// The Householder reduction of the full Hermitian `h` to a real tridiagonal matrix, its
+/// eigenpairs, and the eigenvectors carried back (module documentation).
+fn tridiagonal_eigen<T: Scalar<Real = f64>>(
+    mut h: DenseMatrix<T>,
+) -> Result<DenseEigen<T>, DenseEigenError> {
+    let n = h.nrows();
+    let Tridiagonal { reflectors, sub } = reduce_to_tridiagonal(&mut h);
     // Diagonal unitary scaling making the subdiagonal real and non-negative.
     let mut d = vec![T::one(); n];
     let mut tri = Mat::<f64>::zeros(n, n);
@@ -290,4 +411,43 @@ pub fn generalized_hermitian_eigen<T: Scalar<Real = f64>>(
         values: eigen.values.iter().map(|v| v * b / a).collect(),
         vectors: scaled(vectors, b.sqrt()),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tridiagonal_values_and_last_components;
+
+    /// The second-difference matrix (2 on the diagonal, −1 beside it) of order `n` has the
+    /// eigenvalues `2 − 2 cos(kπ/(n + 1))` with unit eigenvectors
+    /// `√(2/(n + 1)) sin(jkπ/(n + 1))`, `j, k = 1..n`.
+    #[test]
+    fn second_difference_matrix_in_closed_form() {
+        for n in [1, 2, 3, 10, 57] {
+            let (values, last) =
+                tridiagonal_values_and_last_components(&vec![2.0; n], &vec![-1.0; n - 1]).unwrap();
+            let angle = std::f64::consts::PI / (n + 1) as f64;
+            for k in 1..=n {
+                let value = 2.0 - 2.0 * (k as f64 * angle).cos();
+                let component =
+                    ((2.0 / (n + 1) as f64).sqrt() * (n as f64 * k as f64 * angle).sin()).abs();
+                assert!((values[k - 1] - value).abs() < 1e-14, "n {n}, k {k}");
+                assert!((last[k - 1] - component).abs() < 1e-14, "n {n}, k {k}");
+            }
+        }
+    }
+
+    /// Zero couplings split the matrix: the eigenvalues are the diagonal, sorted, and only
+    /// the last index's own eigenvector has a last component.
+    #[test]
+    fn decoupled_matrix_is_its_diagonal() {
+        let (values, last) =
+            tridiagonal_values_and_last_components(&[3.0, -1.0, 2.0], &[0.0, 0.0]).unwrap();
+        assert_eq!(values, vec![-1.0, 2.0, 3.0]);
+        assert_eq!(last, vec![0.0, 1.0, 0.0]);
+    }
+
+    #[test]
+    fn non_finite_entries_are_an_error() {
+        assert!(tridiagonal_values_and_last_components(&[1.0, 2.0], &[f64::NAN]).is_err());
+    }
 }
