@@ -20,20 +20,28 @@ less, the ratios, and the largest relative difference of the eigenvalues against
 relative to the largest eigenvalue).
 
     python benches/python/laplace_vs_libigl.py --dirac target/release/dirac -k 20 MESH...
+
+OpenBLAS is limited to one thread (unless ``OPENBLAS_NUM_THREADS`` is set): this process stays
+alive between the runners, and OpenBLAS threads left spinning after ``eigsh`` took a core from
+the command line that ran next (ARPACK's vector operations at these sizes gain nothing from
+them).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import statistics
 import subprocess
 import time
 
-import igl
-import numpy as np
-import scipy.sparse.linalg
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import igl  # noqa: E402
+import numpy as np  # noqa: E402
+import scipy.sparse.linalg  # noqa: E402
 
 
 def cli_spectrum(binary: str, path: str, k: int) -> np.ndarray:
