@@ -40,8 +40,8 @@
 //! partial coefficients exchanged per column and added in a fixed order), the Ritz vectors of
 //! a restart (rows split) and large sparse products. The second thread is one helper that
 //! waits between pieces of work ([`qsparse::threads::join`]); faer runs with `Par::Seq`.
-//! Results do not depend on timing. [`threads::set_second_thread_allowed`]`(false)` keeps everything on the
-//! calling thread.
+//! Results do not depend on timing. [`threads::set_second_thread_allowed`]`(false)` keeps
+//! everything on the calling thread.
 
 mod backend;
 mod basis;

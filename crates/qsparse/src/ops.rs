@@ -7,6 +7,12 @@ use qscalar::Scalar;
 use crate::{SparseError, SparseMatrix, threads, vector};
 
 impl<T: Scalar> SparseMatrix<T> {
+    /// Whether a product with this matrix is split between two threads: at least
+    /// [`threads::SPLIT_REALS`] stored reals, and a second thread allowed.
+    fn products_split(&self) -> bool {
+        self.nnz() * T::REAL_DIM >= threads::SPLIT_REALS && threads::second_thread_allowed()
+    }
+
     fn check_dim(
         &self,
         len: usize,
@@ -33,9 +39,7 @@ impl<T: Scalar> SparseMatrix<T> {
     pub fn mul_vec(&self, x: &[T], y: &mut [T]) -> Result<(), SparseError> {
         self.check_dim(x.len(), self.ncols, "x in A x")?;
         self.check_dim(y.len(), self.nrows, "y in A x")?;
-        let two_threads =
-            self.nnz() * T::REAL_DIM >= threads::SPLIT_REALS && threads::second_thread_allowed();
-        if two_threads {
+        if self.products_split() {
             let split = self.nrows / 2;
             let (top, bottom) = y.split_at_mut(split);
             threads::join(
@@ -84,9 +88,7 @@ impl<T: Scalar> SparseMatrix<T> {
     {
         self.check_dim(x.len(), self.nrows, "x in Aᴴ x")?;
         self.check_dim(y.len(), self.ncols, "y in Aᴴ x")?;
-        let two_threads =
-            self.nnz() * T::REAL_DIM >= threads::SPLIT_REALS && threads::second_thread_allowed();
-        if two_threads {
+        if self.products_split() {
             let split = self.col_ptr.partition_point(|&p| p < self.nnz() / 2);
             let (first, second) = y.split_at_mut(split.min(self.ncols));
             threads::join(

@@ -109,10 +109,7 @@ pub fn join<RA, RB: Send>(
     first: impl FnOnce() -> RA,
     second: impl FnOnce() -> RB + Send,
 ) -> (RA, RB) {
-    match Lease::take() {
-        Some(lease) => lease.join(first, second, Halves::Independent),
-        None => (first(), second()),
-    }
+    Halves::Independent.run(first, second)
 }
 
 /// [`join`] for two halves that wait for each other (the split Gram–Schmidt sweep exchanges
@@ -122,14 +119,7 @@ pub fn join_concurrently<RA, RB: Send>(
     first: impl FnOnce() -> RA,
     second: impl FnOnce() -> RB + Send,
 ) -> (RA, RB) {
-    match Lease::take() {
-        Some(lease) => lease.join(first, second, Halves::Concurrent),
-        None => std::thread::scope(|scope| {
-            let helper = scope.spawn(second);
-            let first = catch_unwind(AssertUnwindSafe(first));
-            both(first, helper.join())
-        }),
-    }
+    Halves::Concurrent.run(first, second)
 }
 
 /// Whether the calling thread may run the second half itself ([`join`]) or the two must
@@ -138,6 +128,26 @@ pub fn join_concurrently<RA, RB: Send>(
 enum Halves {
     Independent,
     Concurrent,
+}
+
+impl Halves {
+    /// `(first(), second())` on the helper if it is free; otherwise independent halves one
+    /// after the other on the calling thread, concurrent ones on a thread started for them.
+    fn run<RA, RB: Send>(
+        self,
+        first: impl FnOnce() -> RA,
+        second: impl FnOnce() -> RB + Send,
+    ) -> (RA, RB) {
+        match (Lease::take(), self) {
+            (Some(lease), _) => lease.join(first, second, self),
+            (None, Halves::Independent) => (first(), second()),
+            (None, Halves::Concurrent) => std::thread::scope(|scope| {
+                let helper = scope.spawn(second);
+                let first = catch_unwind(AssertUnwindSafe(first));
+                both(first, helper.join())
+            }),
+        }
+    }
 }
 
 /// Both results, or the first panic raised again.
