@@ -25,11 +25,11 @@
 //!   basis, never changed again, and orthogonalised against from then on. The best unconverged
 //!   Ritz vectors are kept with the residual vector as continuation (`A U = U Θ + q sᵀ`).
 //!   For a pencil the true residual lags behind the estimate by a factor (the estimate's
-//!   residual vector seen through the factor); a candidate it refuses sets the *lock margin*,
-//!   how much lower than `tol |θ|` the estimates must be before a check point counts on a
-//!   pair locking, so that the next check point comes when the pairs can pass instead of
-//!   restarting on them again too early (Laplace spectra of small meshes: 8 % fewer
-//!   operator applications).
+//!   residual vector seen through the factor); after a restart whose candidates were all
+//!   refused, the check points count only on pairs whose estimates are as much lower than
+//!   `tol |θ|` as the refusals showed (the *lock margin*), so that the next restart comes
+//!   when they can pass rather than after a fixed wait (Laplace spectra of small meshes: 8 %
+//!   fewer operator applications).
 //! * **Attainable accuracy.** The estimate measures the residual of the operator the iteration
 //!   sees: the computed `A`, restricted to the complement of the deflation and locked vectors.
 //!   The true residual differs from it by the rounding errors of applying `A` (about
@@ -410,15 +410,22 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     round_steps: usize,
     /// Lanczos steps since the last check point or restart.
     since_check: usize,
-    /// Steps after a restart before the next check point may come: [`CHECK_INTERVAL`] after
-    /// a restart that locked nothing and learned nothing (it had no candidates, or the true
-    /// residuals refused every one without tightening [`Self::lock_margin`], and a check one
-    /// step later would restart on the same candidates again: on the camel head, k = 20, 44
-    /// restarts and 277 applications instead of 6 and 107), otherwise one.
+    /// Steps after a restart before the next check point may come, and the margin below
+    /// `tol |θ|` an estimate needs there for the check point to count on its pair
+    /// ([`Lanczos::locking_candidates`]), by what the restart locked:
+    /// * some pairs: `1` and `1`, the next check point as soon as the round may end (a restart
+    ///   that locks some of its candidates is progress even if others are refused);
+    /// * none, its candidates refused by their true residuals: `1` and
+    ///   [`Self::lock_margin`], the next check point once the estimates are as low as the
+    ///   refusals showed they must be (a check one step later would restart on the same
+    ///   candidates again);
+    /// * none, without candidates (or without a usable residual): [`CHECK_INTERVAL`] and
+    ///   `1` (checking every step restarted without progress: on the camel head, k = 20, 44
+    ///   restarts and 277 applications instead of 6 and 107).
     check_delay: usize,
-    /// How far below `tol |θ|` an estimate must be for a check point to count on its pair
-    /// passing the true residual ([`Lanczos::locking_candidates`]; `1` until a pair fails,
-    /// see [`Lanczos::learn_from_refusal`]).
+    check_margin: f64,
+    /// The lowest ratio `e / (|θ| r)` of a Lanczos estimate `e` to the true residual `r > tol`
+    /// of a refused candidate so far ([`Lanczos::learn_from_refusal`]); `1` before any.
     lock_margin: f64,
 }
 
@@ -474,6 +481,7 @@ where
             round_steps: 0,
             since_check: 0,
             check_delay: 1,
+            check_margin: 1.0,
             lock_margin: 1.0,
         })
     }
@@ -660,9 +668,9 @@ where
     /// locked values and the candidates before them.
     ///
     /// A restart tries every pair below `tol |θ|` (`margin` 1: a refusal costs one residual);
-    /// a check point counts on those below [`Self::lock_margin`], the pairs expected to pass
-    /// their true residual, to decide whether the round may end (a refusal there costs a
-    /// restart too early).
+    /// a check point counts on those below [`Self::check_margin`] to decide whether the round
+    /// may end (a check point that counts on pairs the true residual then refuses restarts
+    /// without progress).
     fn locking_candidates(&self, pairs: &RitzValues, margin: f64) -> (Vec<usize>, Vec<f64>) {
         let (which, tol) = (self.options.which, self.options.tolerance);
         let passes = |theta: f64, estimate: f64| {
@@ -744,7 +752,7 @@ where
         self.basis.combine_in_place(base, y.as_ref());
         self.orthogonalization_time += t.elapsed();
 
-        let (newly_locked, learned) = self.lock(ritz, &selection[..candidates.len()]);
+        let (newly_locked, informative_refusal) = self.lock(ritz, &selection[..candidates.len()]);
         let new_active = self.active_dimension(self.base());
         let kept: Vec<usize> = (0..selection.len())
             .filter(|c| !newly_locked.contains(c))
@@ -780,10 +788,11 @@ where
         self.head = None;
         self.expanded = p;
         self.since_check = 0;
-        self.check_delay = if newly_locked.is_empty() && !learned {
-            CHECK_INTERVAL
-        } else {
-            1
+        (self.check_delay, self.check_margin) = match (newly_locked.is_empty(), informative_refusal)
+        {
+            (false, _) => (1, 1.0),
+            (true, true) => (1, self.lock_margin),
+            (true, false) => (CHECK_INTERVAL, 1.0),
         };
         self.active = new_active;
         Ok(AfterRestart::Continue)
@@ -791,8 +800,8 @@ where
 
     /// Locks the candidates (Ritz pairs `candidates[c]`, whose vectors are now the active
     /// columns `c`) whose true residual passes the tolerance, or whose estimate is at the
-    /// rounding level; returns their positions `c`, and whether a refused candidate tightened
-    /// the [`Self::lock_margin`].
+    /// rounding level; returns their positions `c`, and whether a refused candidate told how
+    /// far its true residual lags ([`Self::learn_from_refusal`]).
     fn lock(&mut self, ritz: &RitzValues, candidates: &[usize]) -> (Vec<usize>, bool) {
         let (which, tol) = (self.options.which, self.options.tolerance);
         let base = self.base();
@@ -810,7 +819,7 @@ where
             residuals.extend(self.op.relative_residuals(vectors, chunk_thetas));
         }
         let mut newly_locked = Vec::new();
-        let mut learned = false;
+        let mut informative_refusal = false;
         for (c, (&i, residual)) in candidates.iter().zip(residuals).enumerate() {
             let (theta, estimate) = (ritz.theta[i], ritz.estimate[i]);
             let at_rounding_level = estimate <= ROUNDING * self.norm_estimate;
@@ -823,33 +832,35 @@ where
                 let is_new = kth_before.is_none_or(|kth| better(which, theta, kth, tol));
                 self.new_in_round += usize::from(is_new);
             } else {
-                learned |= self.learn_from_refusal(theta, estimate, residual);
+                informative_refusal |= self.learn_from_refusal(theta, estimate, residual);
             }
         }
         self.locked
             .extend(newly_locked.iter().map(|&c| ritz.theta[candidates[c]]));
         self.statistics.locked = self.locked.len();
-        (newly_locked, learned)
+        (newly_locked, informative_refusal)
     }
 
     /// A candidate with estimate `e` had the true residual `r > tol`: for a pencil the two
     /// differ by a factor `r |θ| / e` (the residual `βₘ yₘ qₘ₊₁` of the iteration space seen
     /// through the factor, `‖C qₘ₊₁‖ / ‖C y‖`, which a smooth Ritz vector and a rough Lanczos
-    /// vector make large), so later candidates need estimates that much lower. Tightens
-    /// [`Self::lock_margin`] to `e / (|θ| r)` if that is lower (not for a zero estimate or a
-    /// non-finite residual), and returns whether it did.
+    /// vector make large), so candidates need estimates that much lower. Lowers
+    /// [`Self::lock_margin`] to `e / (|θ| r)` if that is lower; returns whether the ratio is
+    /// usable (positive and finite: not for a zero estimate or a non-finite residual).
     ///
-    /// A margin learned from a pair far from converged (the camel head's relative Dirac
-    /// operator refuses one with estimate `1e−13 |θ|` and residual `0.06`) is too strict for
-    /// the others; that only delays check points until their estimates reach the rounding
-    /// level or the basis fills, whose restart tries every pair below `tol |θ|` again.
+    /// The factor fluctuates with `qₘ₊₁` and between pairs, and near the attainable accuracy
+    /// the residual stops following the estimate (a pair with estimate `5.5e−14 |θ|` and
+    /// residual `1.3e−10` on psb_285's relative Dirac operator), so the lowest ratio is only
+    /// used after a restart that locked nothing ([`Self::check_delay`]), where it replaces a
+    /// blind wait; it costs at most a restart at a full basis, which tries every pair below
+    /// `tol |θ|` again.
     fn learn_from_refusal(&mut self, theta: f64, estimate: f64, residual: f64) -> bool {
         let margin = estimate / (theta.abs() * residual);
-        let tighter = margin > 0.0 && margin < self.lock_margin;
-        if tighter {
-            self.lock_margin = margin;
+        let usable = margin > 0.0 && margin.is_finite();
+        if usable {
+            self.lock_margin = self.lock_margin.min(margin);
         }
-        tighter
+        usable
     }
 
     /// Moves the active columns `base + c` to `[newly locked | kept]` from `base` on, followed
@@ -896,7 +907,7 @@ where
             let expansion = self.expand()?;
             if expansion == Expansion::CheckPoint {
                 let ritz = self.ritz_values()?;
-                let (candidates, values) = self.locking_candidates(&ritz, self.lock_margin);
+                let (candidates, values) = self.locking_candidates(&ritz, self.check_margin);
                 if !self.round_finished(&values, &ritz, &ritz.others(&candidates)) {
                     continue; // keep expanding
                 }
