@@ -423,6 +423,7 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     ///   `1` (checking every step restarted without progress: on the camel head, k = 20, 44
     ///   restarts and 277 applications instead of 6 and 107).
     check_delay: usize,
+    /// See [`Self::check_delay`].
     check_margin: f64,
     /// The lowest ratio `e / (|θ| r)` of a Lanczos estimate `e` to the true residual `r > tol`
     /// of a refused candidate so far ([`Lanczos::learn_from_refusal`]); `1` before any.
