@@ -1,6 +1,6 @@
 //! Locking when the true residuals lag behind the Lanczos estimates, as a pencil's do: the
 //! residual of the mapped-back pair is the iteration space's residual seen through the
-//! factor, a constant factor larger for pairs that are nearly converged.
+//! factor, larger by a factor (a constant one here).
 
 use qeig::{HermitianOperator, LanczosOptions, Which, hermitian_eigs};
 
