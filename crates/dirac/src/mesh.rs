@@ -115,17 +115,14 @@ pub struct Edge {
 }
 
 /// One face's use of an undirected edge, used to sort and group the edges of a face list
-/// (here and by [`crate::repair`]).
+/// (here and by [`crate::repair`]). The face and its direction follow from the corners, so a
+/// use takes 32 bytes: building the `3|F|` uses is most of the time of validating a mesh.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct EdgeUse {
     /// Smaller vertex.
     pub(crate) lo: usize,
     /// Larger vertex.
     pub(crate) hi: usize,
-    /// The face.
-    pub(crate) face: usize,
-    /// Whether the face traverses the edge `lo → hi`.
-    pub(crate) forward: bool,
     /// The face's corners (`3 face + local index`) at `lo` and at `hi`.
     pub(crate) corners: [usize; 2],
 }
@@ -144,13 +141,19 @@ pub(crate) fn edge_uses(faces: &[[usize; 3]]) -> Vec<EdgeUse> {
         let (face, c) = (index / 3, index % 3);
         let f = faces[face];
         let (a, b) = (f[c], f[(c + 1) % 3]);
-        let (ca, cb) = (3 * face + c, 3 * face + (c + 1) % 3);
-        EdgeUse {
-            lo: a.min(b),
-            hi: a.max(b),
-            face,
-            forward: a < b,
-            corners: if a < b { [ca, cb] } else { [cb, ca] },
+        let (ca, cb) = (index, next_corner(index));
+        if a < b {
+            EdgeUse {
+                lo: a,
+                hi: b,
+                corners: [ca, cb],
+            }
+        } else {
+            EdgeUse {
+                lo: b,
+                hi: a,
+                corners: [cb, ca],
+            }
         }
     };
     let lo = |index: usize| edge_use(index).lo;
@@ -182,14 +185,29 @@ pub(crate) fn same_edge(a: &EdgeUse, b: &EdgeUse) -> bool {
 }
 
 impl EdgeUse {
+    /// The face.
+    pub(crate) fn face(&self) -> usize {
+        self.corners[0] / 3
+    }
+
+    /// Whether the face traverses the edge `lo → hi` (its corner after `lo`'s is `hi`'s).
+    pub(crate) fn forward(&self) -> bool {
+        next_corner(self.corners[0]) == self.corners[1]
+    }
+
     /// The edge in the direction this face traverses it.
     fn directed(&self) -> [usize; 2] {
-        if self.forward {
+        if self.forward() {
             [self.lo, self.hi]
         } else {
             [self.hi, self.lo]
         }
     }
+}
+
+/// The corner after `corner` (`3 face + local index`) in its face's order.
+fn next_corner(corner: usize) -> usize {
+    corner - corner % 3 + (corner + 1) % 3
 }
 
 /// `|(b − a) × (c − a)| / 2`.
@@ -283,10 +301,10 @@ fn check_manifold(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshE
     for group in edge_uses(faces).chunk_by(same_edge) {
         match *group {
             [_] => {}
-            [a, b] if a.forward == b.forward => {
+            [a, b] if a.forward() == b.forward() => {
                 return Err(MeshError::InconsistentOrientation {
                     edge: a.directed(),
-                    faces: [a.face, b.face],
+                    faces: [a.face(), b.face()],
                 });
             }
             [a, b] => {
@@ -296,7 +314,7 @@ fn check_manifold(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshE
             _ => {
                 return Err(MeshError::NonManifoldEdge {
                     edge: [group[0].lo, group[0].hi],
-                    faces: group.iter().map(|u| u.face).collect(),
+                    faces: group.iter().map(EdgeUse::face).collect(),
                 });
             }
         }
@@ -498,8 +516,8 @@ impl TriMesh {
             .chunk_by(same_edge)
             .map(|group| Edge {
                 vertices: group[0].directed(),
-                face: group[0].face,
-                opposite_face: group.get(1).map(|u| u.face),
+                face: group[0].face(),
+                opposite_face: group.get(1).map(EdgeUse::face),
             })
             .collect()
     }
@@ -576,7 +594,7 @@ mod tests {
                 .collect();
             let keys = |uses: &[EdgeUse]| -> Vec<(usize, usize, usize, bool, [usize; 2])> {
                 (uses.iter())
-                    .map(|u| (u.lo, u.hi, u.face, u.forward, u.corners))
+                    .map(|u| (u.lo, u.hi, u.face(), u.forward(), u.corners))
                     .collect()
             };
             // Every (face, corner) edge, in face order, sorted stably by a comparison sort.

@@ -155,16 +155,21 @@ impl TriMesh {
         &self,
         selection: ComponentSelection,
     ) -> Result<(TriMesh, Vec<usize>), ComponentError> {
-        let (face_component, count) = face_components(self.face_count(), &self.edges());
-        let chosen = match selection {
+        // `None`: the largest component.
+        let index = match selection {
             ComponentSelection::All => {
                 return Ok((self.clone(), (0..self.vertex_count()).collect()));
             }
-            ComponentSelection::Index(index) if index >= count => {
+            ComponentSelection::Index(index) => Some(index),
+            ComponentSelection::Largest => None,
+        };
+        let (face_component, count) = face_components(self.face_count(), &self.edges());
+        let chosen = match index {
+            Some(index) if index >= count => {
                 return Err(ComponentError::OutOfRange { index, count });
             }
-            ComponentSelection::Index(index) => index,
-            ComponentSelection::Largest => {
+            Some(index) => index,
+            None => {
                 let mut sizes = vec![0usize; count];
                 for &c in &face_component {
                     sizes[c] += 1;

@@ -230,6 +230,15 @@ fn off_malformed_inputs_name_the_line() {
             found: 4
         }
     ));
+    // Too few indices is reported before what is wrong with them.
+    assert!(matches!(
+        case("5 0 x 2\n"),
+        ParseError::MissingValues {
+            line: 6,
+            expected: 6,
+            found: 4
+        }
+    ));
     assert!(matches!(
         case("99999999999999999999999 0 1 2\n"),
         ParseError::BadNumber { line: 6, .. }
@@ -241,6 +250,25 @@ fn off_malformed_inputs_name_the_line() {
     assert!(matches!(
         off("OFF\n3 1 0\n0 0\n").unwrap_err(),
         ParseError::MissingValues { line: 3, .. }
+    ));
+}
+
+/// Lines end at `\n` or `\r\n` (the last one may end the file without either), tokens are
+/// separated by spaces or tabs, and a comment may follow the content of any line.
+#[test]
+fn line_endings_tabs_and_comments() {
+    let square = dirac::io::RawMesh {
+        positions: SQUARE.to_vec(),
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let text = "v 0 0 0\r\nv 1 0 0 # x\r\nv\t1 1 0\r\nv 0 1 0\r\n#\r\nf 1 2 3\r\nf 1 3 4";
+    assert_eq!(obj(text).unwrap(), square);
+    let text = "OFF\r\n4 2 0\r\n\r\n0 0 0\r\n1\t0 0\r\n1 1 0 # x\r\n0 1 0\r\n3 0 1 2\r\n3 0 2 3";
+    assert_eq!(off(text).unwrap(), square);
+    // The line numbers count `\r\n` lines.
+    assert!(matches!(
+        obj("v 0 0 0\r\nv 1 0 0\r\nv 0 x 0\r\n").unwrap_err(),
+        ParseError::BadNumber { line: 3, ref token, .. } if token == "x"
     ));
 }
 

@@ -4,9 +4,7 @@
 use std::io::{BufRead, Write};
 use std::path::Path;
 
-use super::{
-    ParseError, RawMesh, WriteError, coordinates, create, numbered_lines, parse_number, with_path,
-};
+use super::{Lines, ParseError, RawMesh, WriteError, coordinates, create, parse_number, with_path};
 use crate::TriMesh;
 
 /// Parses an OBJ file: positions in file order, polygons fan-triangulated. A face may only
@@ -14,9 +12,10 @@ use crate::TriMesh;
 pub fn read_obj_from(reader: impl BufRead) -> Result<RawMesh, ParseError> {
     let mut mesh = RawMesh::default();
     let mut polygon = Vec::new();
-    for item in numbered_lines(reader) {
-        let (line, text) = item?;
-        let mut tokens = text.split_whitespace();
+    let mut lines = Lines::new(reader);
+    while lines.advance()? {
+        let (line, text) = (lines.line, lines.content());
+        let mut tokens = text.split_ascii_whitespace();
         match tokens.next() {
             Some("v") => mesh.positions.push(coordinates(tokens, line)?),
             Some("f") => {

@@ -36,7 +36,7 @@ pub(super) fn glued_edges(merged: &[[usize; 3]], input: &[[usize; 3]]) -> Vec<[E
                             continue;
                         }
                         let partner = (i + 1..sheet.len())
-                            .find(|&j| !paired[j] && sheet[j].forward != sheet[i].forward);
+                            .find(|&j| !paired[j] && sheet[j].forward() != sheet[i].forward());
                         if let Some(j) = partner {
                             paired[i] = true;
                             paired[j] = true;
@@ -72,9 +72,9 @@ pub(super) fn orientation(
     // exactly one of them is reversed).
     let mut neighbours = vec![Vec::new(); face_count];
     for [a, b] in glued {
-        let same = a.forward == b.forward;
-        neighbours[a.face].push((b.face, same));
-        neighbours[b.face].push((a.face, same));
+        let same = a.forward() == b.forward();
+        neighbours[a.face()].push((b.face(), same));
+        neighbours[b.face()].push((a.face(), same));
     }
     let mut flip: Vec<Option<bool>> = vec![None; face_count];
     let mut component = 0;
