@@ -8,7 +8,10 @@
 //! while that is unbalanced, move the root of the largest candidate to the top and its
 //! children to the candidates. The estimated time `top + max(first, second)` (work counted in
 //! stored factor entries: the solves are bound by memory traffic) is minimised over the
-//! sequence of splits.
+//! sequence of splits. The sequence stops early when no later split can win: the top only
+//! grows, and a split with top `t` costs at least `(total + t) / 2`. (Sorting all candidates
+//! again at each of up to 256 splits took 0.7 ms, a quarter of analysing a 3k-vertex
+//! Laplacian; they are now kept sorted.)
 //!
 //! The supernodes are then renumbered `[first thread | second thread | top]`, keeping their
 //! relative order inside each group. That is again a topological order of the tree (children
@@ -56,24 +59,35 @@ pub(super) fn split_for_two_threads(
         return None;
     }
 
-    // Greedy splitting; remember the best (top, assignment) seen.
+    // Greedy splitting; remember the best (top, assignment) seen. The candidates stay sorted
+    // by decreasing subtree work (ties by index): a split removes one and inserts its children.
+    let before = |a: usize, b: usize| subtree[b].total_cmp(&subtree[a]).then(a.cmp(&b));
+    candidates.sort_by(|&a, &b| before(a, b));
     let mut top = Vec::new();
     let mut top_work = 0.0;
     let mut best: Option<Candidate> = None;
     for _ in 0..=MAX_SPLITS {
-        candidates.sort_by(|&a, &b| subtree[b].total_cmp(&subtree[a]).then(a.cmp(&b)));
         let mut bins = [0.0f64; 2];
-        let assignment: Vec<(usize, usize)> = candidates
-            .iter()
-            .map(|&c| {
-                let bin = usize::from(bins[1] < bins[0]);
-                bins[bin] += subtree[c];
-                (c, bin)
-            })
-            .collect();
+        for &c in &candidates {
+            bins[usize::from(bins[1] < bins[0])] += subtree[c];
+        }
         let cost = top_work + bins[0].max(bins[1]);
         if best.as_ref().is_none_or(|(b, _, _)| cost < *b) {
+            let mut bins = [0.0f64; 2];
+            let assignment = (candidates.iter())
+                .map(|&c| {
+                    let bin = usize::from(bins[1] < bins[0]);
+                    bins[bin] += subtree[c];
+                    (c, bin)
+                })
+                .collect();
             best = Some((cost, top.clone(), assignment));
+        }
+        // Every later split costs at least `top + (total − top) / 2` with a larger top: once
+        // that reaches the best cost, none can beat it (the margin covers rounding).
+        let best_cost = best.as_ref().map_or(f64::INFINITY, |(b, _, _)| *b);
+        if (total + top_work) / 2.0 >= best_cost * (1.0 + 1e-9) {
+            break;
         }
         // Split the largest candidate that has children.
         let Some(position) = candidates.iter().position(|&c| !children[c].is_empty()) else {
@@ -82,7 +96,10 @@ pub(super) fn split_for_two_threads(
         let c = candidates.remove(position);
         top.push(c);
         top_work += work[c];
-        candidates.extend_from_slice(&children[c]);
+        for &child in &children[c] {
+            let at = candidates.partition_point(|&d| before(d, child).is_lt());
+            candidates.insert(at, child);
+        }
     }
     let (cost, top, assignment) = best?;
     if cost * MIN_GAIN > total {
