@@ -254,17 +254,29 @@ fn off_malformed_inputs_name_the_line() {
 }
 
 /// Lines end at `\n` or `\r\n` (the last one may end the file without either), tokens are
-/// separated by spaces or tabs, and a comment may follow the content of any line.
+/// separated by spaces or tabs, a comment may follow the content of any line, and a
+/// byte-order mark may start the file.
 #[test]
 fn line_endings_tabs_and_comments() {
     let square = dirac::io::RawMesh {
         positions: SQUARE.to_vec(),
         faces: vec![[0, 1, 2], [0, 2, 3]],
     };
-    let text = "v 0 0 0\r\nv 1 0 0 # x\r\nv\t1 1 0\r\nv 0 1 0\r\n#\r\nf 1 2 3\r\nf 1 3 4";
-    assert_eq!(obj(text).unwrap(), square);
+    let text_obj = "v 0 0 0\r\nv 1 0 0 # x\r\nv\t1 1 0\r\nv 0 1 0\r\n#\r\nf 1 2 3\r\nf 1 3 4";
+    assert_eq!(obj(text_obj).unwrap(), square);
     let text = "OFF\r\n4 2 0\r\n\r\n0 0 0\r\n1\t0 0\r\n1 1 0 # x\r\n0 1 0\r\n3 0 1 2\r\n3 0 2 3";
     assert_eq!(off(text).unwrap(), square);
+    // A byte-order mark does not hide the first vertex or the OFF header.
+    assert_eq!(
+        obj(&format!("\u{feff}{text_obj}")).unwrap(),
+        square,
+        "OBJ with a BOM"
+    );
+    assert_eq!(
+        off(&format!("\u{feff}{text}")).unwrap(),
+        square,
+        "OFF with a BOM"
+    );
     // The line numbers count `\r\n` lines.
     assert!(matches!(
         obj("v 0 0 0\r\nv 1 0 0\r\nv 0 x 0\r\n").unwrap_err(),

@@ -5,9 +5,9 @@
 //! and a parsed but invalid mesh fails with the [`MeshError`] of [`TriMesh::new`]. No input
 //! makes a reader panic. [`read_mesh`] does both steps for a file chosen by extension.
 //!
-//! OBJ and OFF files are read line by line: a line ends at `\n` or `\r\n` and must be UTF-8,
-//! `#` starts a comment to the end of the line, and tokens are separated by ASCII whitespace
-//! (spaces and tabs).
+//! OBJ and OFF files are read line by line: a line ends at `\n` or `\r\n` and must be UTF-8
+//! (a byte-order mark at the start of the file is skipped), `#` starts a comment to the end of
+//! the line, and tokens are separated by ASCII whitespace (spaces and tabs).
 
 mod obj;
 mod off;
@@ -194,8 +194,9 @@ struct Lines<R> {
     reader: R,
     /// The current line as read (its end of line and comment included).
     buffer: String,
-    /// Length of the current line's content.
-    content: usize,
+    /// Where the current line's content starts and ends in `buffer`.
+    start: usize,
+    end: usize,
     /// The number of the current line (lines read so far).
     line: usize,
 }
@@ -205,7 +206,8 @@ impl<R: BufRead> Lines<R> {
         Self {
             reader,
             buffer: String::new(),
-            content: 0,
+            start: 0,
+            end: 0,
             line: 0,
         }
     }
@@ -226,15 +228,23 @@ impl<R: BufRead> Lines<R> {
             return Ok(false);
         }
         self.line = line;
-        let text = self.buffer.strip_suffix('\n').unwrap_or(&self.buffer);
+        // A byte-order mark (some Windows tools write one) is not part of the first line: read
+        // as text it would hide the first statement, e.g. an OBJ file's first vertex.
+        self.start = if line == 1 && self.buffer.starts_with('\u{feff}') {
+            '\u{feff}'.len_utf8()
+        } else {
+            0
+        };
+        let text = &self.buffer[self.start..];
+        let text = text.strip_suffix('\n').unwrap_or(text);
         let text = text.strip_suffix('\r').unwrap_or(text);
-        self.content = text.find('#').unwrap_or(text.len());
+        self.end = self.start + text.find('#').unwrap_or(text.len());
         Ok(true)
     }
 
     /// The current line without its end of line and comment.
     fn content(&self) -> &str {
-        &self.buffer[..self.content]
+        &self.buffer[self.start..self.end]
     }
 }
 
