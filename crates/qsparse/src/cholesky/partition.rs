@@ -68,19 +68,16 @@ pub(super) fn split_for_two_threads(
     let mut best: Option<Candidate> = None;
     for _ in 0..=MAX_SPLITS {
         let mut bins = [0.0f64; 2];
-        for &c in &candidates {
-            bins[usize::from(bins[1] < bins[0])] += subtree[c];
-        }
+        let assignment: Vec<(usize, usize)> = candidates
+            .iter()
+            .map(|&c| {
+                let bin = usize::from(bins[1] < bins[0]);
+                bins[bin] += subtree[c];
+                (c, bin)
+            })
+            .collect();
         let cost = top_work + bins[0].max(bins[1]);
         if best.as_ref().is_none_or(|(b, _, _)| cost < *b) {
-            let mut bins = [0.0f64; 2];
-            let assignment = (candidates.iter())
-                .map(|&c| {
-                    let bin = usize::from(bins[1] < bins[0]);
-                    bins[bin] += subtree[c];
-                    (c, bin)
-                })
-                .collect();
             best = Some((cost, top.clone(), assignment));
         }
         // Every later split costs at least `top + (total − top) / 2` with a larger top: once
