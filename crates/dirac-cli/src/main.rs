@@ -39,10 +39,11 @@ fn main() -> ExitCode {
 /// the system on `free`, and raises that threshold only as it sees large blocks freed (at
 /// most to 32 MiB). A spectrum allocates and frees many such blocks (mesh tables, matrices,
 /// work vectors), and each fresh mapping is paid again in page faults: starting at the
-/// threshold glibc would reach anyway, and keeping up to 64 MiB of freed memory, cut the page
-/// faults of a small Laplace spectrum by a quarter to a third and its time by 4–6 %, for
-/// 0.5–1.5 MB more peak memory (docs/PERFORMANCE.md). Blocks above 32 MiB (the bases and
-/// factors of large meshes) are still mapped and returned one by one.
+/// threshold glibc would reach anyway, and keeping up to 64 MiB of freed memory per
+/// allocator arena (about one per thread), cut the page faults of a small Laplace spectrum by
+/// a quarter to a third and its time by 4–7 %, for 0.5–1.5 MB more peak memory (a `batch`
+/// of relative Dirac spectra on two threads: 10 % more; docs/PERFORMANCE.md). Blocks above
+/// 32 MiB (the bases and factors of large meshes) are still mapped and returned one by one.
 #[cfg(all(target_os = "linux", target_env = "gnu"))]
 fn keep_freed_memory() {
     const MIB: libc::c_int = 1 << 20;
