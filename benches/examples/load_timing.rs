@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
-use qsparse::{SparseCholesky, SymbolicCholesky, TripletMatrix};
+use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
 
 fn main() {
     let path = std::env::args().nth(1).expect("usage: load_timing MESH");
@@ -30,12 +30,8 @@ fn main() {
     lap("topology");
     let laplacian = cotan_laplacian(&mesh);
     let mass = barycentric_masses(&mesh);
-    let mut pencil = TripletMatrix::with_capacity(mass.len(), mass.len(), laplacian.nnz());
-    for (i, j, v) in laplacian.triplets() {
-        let diagonal = if i == j { mass[i] } else { 0.0 };
-        pencil.push(i, j, v + diagonal).expect("in range");
-    }
-    let pencil = pencil.to_csc();
+    let masses = SparseMatrix::from_diagonal(&mass);
+    let pencil = SparseMatrix::linear_combination(1.0, &laplacian, 1.0, &masses).expect("n × n");
     lap("assemble");
     let symbolic = Arc::new(SymbolicCholesky::analyze(&pencil).expect("square"));
     lap("analyse");

@@ -8,7 +8,7 @@ use std::time::Instant;
 use dirac::generators::icosphere;
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use qscalar::{Quat, Scalar};
-use qsparse::{SolveThreads, SparseCholesky, SparseMatrix, TripletMatrix};
+use qsparse::{SolveThreads, SparseCholesky, SparseMatrix};
 
 /// A factor and a right-hand side to solve with repeatedly.
 struct Case<T> {
@@ -45,12 +45,9 @@ fn main() {
     let mesh = icosphere(level);
     let laplacian = cotan_laplacian(&mesh);
     let mass = barycentric_masses(&mesh);
-    let mut t = TripletMatrix::with_capacity(mass.len(), mass.len(), laplacian.nnz());
-    for (i, j, v) in laplacian.triplets() {
-        t.push(i, j, v + if i == j { mass[i] } else { 0.0 })
-            .expect("valid");
-    }
-    let mut real = Case::<f64>::new(&t.to_csc());
+    let masses = SparseMatrix::from_diagonal(&mass);
+    let pencil = SparseMatrix::linear_combination(1.0, &laplacian, 1.0, &masses).expect("n × n");
+    let mut real = Case::<f64>::new(&pencil);
     let mut quaternion = Case::<Quat<f64>>::new(&dirac_bench::connection_laplacian(level));
     // [quaternion one, quaternion two, real one, real two]
     let mut samples: [Vec<f64>; 4] = Default::default();
