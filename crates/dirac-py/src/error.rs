@@ -190,9 +190,9 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
         | SpectrumError::ReferenceUnused { .. }
         | SpectrumError::Operator(_) => Kind::Options,
         SpectrumError::ScaleOutOfRange | SpectrumError::ReferenceConnectivity(_) => Kind::Mesh,
-        SpectrumError::VanishingOperator { .. } | SpectrumError::TooFewNonzero { .. } => {
-            Kind::Kernel
-        }
+        SpectrumError::VanishingOperator { .. }
+        | SpectrumError::TooFewNonzero { .. }
+        | SpectrumError::PlanarExtrinsicDirac { .. } => Kind::Kernel,
         SpectrumError::Factorization(_) => Kind::Singular,
         SpectrumError::NotConverged { .. } => Kind::NotConverged,
         _ => Kind::Solver,

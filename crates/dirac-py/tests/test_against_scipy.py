@@ -81,6 +81,39 @@ def test_family_eigenvalues_equal_a_dense_solve_of_the_pencil():
     np.testing.assert_allclose(np.sort(result.eigenvalues[1:]), np.sort(lam[:8]), rtol=1e-8)
 
 
+@pytest.mark.parametrize("tau", [0.5, 0.6])
+def test_literal_family_eigenvalues_equal_eigsh_on_spot(tau):
+    """The literal family ``(1−τ)L + τG`` against ``M`` on a real mesh, where its matrix spans
+    four orders of magnitude more than the wanted eigenvalues (at τ = 0.6 it is indefinite,
+    with negative eigenvalues down to −42). ARPACK in shift-invert mode with SuperLU's LU,
+    which needs no definiteness, about σ = 0.75: about zero the constants' eigenvalue 0 would
+    dominate and cost the others their accuracy. Its window must reach past every eigenvalue
+    of smallest |λ| compared, and its pairs must satisfy the pencil (relative residuals in the
+    mass-weighted norms)."""
+    V, F = ds.default_mesh()
+    P, Q, mass = ds.operator_matrices(V, F, operator="family-literal", tau=tau, form="real")
+    P, Q = P.tocsc(), Q.tocsc()
+    weights = 1.0 / np.repeat(mass, 4)
+    sigma = 0.75
+    v0 = np.random.default_rng(0).normal(size=P.shape[0])
+    values, vectors = scipy.sparse.linalg.eigsh(
+        P, k=4 * 16, M=Q, sigma=sigma, which="LM", tol=1e-13, v0=v0
+    )
+    order = np.argsort(np.abs(values), kind="stable")[: 4 * 9]
+    assert np.abs(values[order]).max() + sigma < np.abs(values - sigma).max()
+    for i in order[4:]:  # past the constants' zero (four real copies)
+        x = vectors[:, i]
+        residual = P @ x - values[i] * (Q @ x)
+        scale = abs(values[i]) * np.sqrt(weights @ (Q @ x) ** 2)
+        assert np.sqrt(weights @ residual**2) <= 1e-9 * scale, values[i]
+    expected = values[order][::4]
+    result = ds.spectrum(V, F, k=9, operator="family-literal", tau=tau)
+    assert result.eigenvalues[0] == 0.0  # the constants, listed exactly
+    np.testing.assert_allclose(
+        np.sort(result.eigenvalues), np.sort(expected), rtol=1e-9, atol=1e-12
+    )
+
+
 @pytest.mark.parametrize(
     "operator, tau", [("relative-dirac", None), ("laplace", None), ("family", 0.3)]
 )

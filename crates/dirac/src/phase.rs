@@ -59,9 +59,14 @@ pub fn canonicalize<T: Scalar<Real = f64>>(masses: &[f64], phi: &mut [T]) {
 }
 
 /// Mass-orthonormalises, within every cluster of equal eigenvalues (consecutive values, in the
-/// given order, within `relative_gap · max(|λ|, 1)`), the eigenvectors by Gram–Schmidt with
-/// coefficients on the right (`v ← v − u ⟨u, v⟩_M`), then puts each in canonical phase.
-/// Eigenvectors of distinct eigenvalues are left as the pencil made them.
+/// given order, within `relative_gap · |λ|` of the cluster's first; exact zeros, such as a
+/// kernel's, form one cluster), the eigenvectors by Gram–Schmidt with coefficients on the
+/// right (`v ← v − u ⟨u, v⟩_M`), then puts each in canonical phase. Eigenvectors of distinct
+/// eigenvalues are left as the pencil made them.
+///
+/// The width is relative only: eigenvalues scale with the mesh (`1/s²` for the Laplacian), so
+/// an absolute floor such as `max(|λ|, 1)` merged distinct eigenvalues of a mesh in
+/// micrometres and mixed their eigenvectors.
 pub fn orthonormalize_and_canonicalize<T: Scalar<Real = f64>>(
     masses: &[f64],
     values: &[f64],
@@ -72,7 +77,7 @@ pub fn orthonormalize_and_canonicalize<T: Scalar<Real = f64>>(
     while start < vectors.len() {
         let mut end = start + 1;
         while end < vectors.len()
-            && (values[end] - values[start]).abs() <= relative_gap * values[start].abs().max(1.0)
+            && (values[end] - values[start]).abs() <= relative_gap * values[start].abs()
         {
             end += 1;
         }
@@ -92,5 +97,40 @@ pub fn orthonormalize_and_canonicalize<T: Scalar<Real = f64>>(
     }
     for v in vectors.iter_mut() {
         canonicalize(masses, v);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `|⟨u, v⟩_M| / (‖u‖_M ‖v‖_M)`: 1 for parallel vectors, 0 for orthogonal ones.
+    fn cosine(masses: &[f64], u: &[f64], v: &[f64]) -> f64 {
+        mass_inner(masses, u, v).abs() / (mass_norm(masses, u) * mass_norm(masses, v))
+    }
+
+    /// Clusters are relative at every magnitude: two eigenvalues 5 % apart are distinct whether
+    /// they are near 1 or near 10⁻⁸ (a mesh in micrometres), and their eigenvectors are left
+    /// as they are; two equal to 10⁻¹² relative are one eigenspace and come out orthonormal.
+    #[test]
+    fn clusters_are_relative_at_every_magnitude() {
+        let masses = [1.0, 2.0, 0.5];
+        let (u, v) = (vec![1.0, 1.0, 0.0], vec![1.0, 0.0, 1.0]);
+        for magnitude in [1.0, 1e-8, 1e8] {
+            let mut distinct = vec![u.clone(), v.clone()];
+            let values = [magnitude, 1.05 * magnitude];
+            orthonormalize_and_canonicalize(&masses, &values, &mut distinct, 1e-8);
+            assert!(
+                (cosine(&masses, &distinct[1], &v) - 1.0).abs() < 1e-14,
+                "λ ≈ {magnitude:e}: the second eigenvector was changed"
+            );
+            let mut equal = vec![u.clone(), v.clone()];
+            let values = [magnitude, (1.0 + 1e-12) * magnitude];
+            orthonormalize_and_canonicalize(&masses, &values, &mut equal, 1e-8);
+            assert!(
+                cosine(&masses, &equal[0], &equal[1]) < 1e-14,
+                "λ ≈ {magnitude:e}"
+            );
+        }
     }
 }

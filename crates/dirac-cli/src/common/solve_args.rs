@@ -66,8 +66,9 @@ pub struct SolveArgs {
     pub max_restarts: usize,
 
     /// List the kernel's eigenvalue 0 (flat vertices and constants, with a mass-orthonormal
-    /// basis) among the k of smallest |λ|. Default: listed for laplace, modified-dirichlet and
-    /// the family with τ < 1 (whose kernel is the constants), not for relative-dirac,
+    /// basis) among the k of smallest |λ|. Default: listed for laplace, anisotropic-laplace,
+    /// modified-dirichlet, family-literal and the family with τ < 1 (whose kernel is at most the
+    /// constants), not for relative-dirac,
     /// extrinsic-dirac and squared (whose kernel holds every flat vertex). The kernel's
     /// dimension is always reported.
     #[arg(long, conflicts_with = "exclude_kernel")]

@@ -71,14 +71,6 @@ pub struct KernelSummary {
 }
 
 impl<T: Scalar<Real = f64>> ExactKernel<T> {
-    /// No known kernel (the literal family, whose pencil is regular).
-    pub fn none() -> Self {
-        Self {
-            flat_vertices: Vec::new(),
-            constants: Vec::new(),
-        }
-    }
-
     /// The kernel of `P x = λ Q x` on `mesh`, with `flat[t]` telling whether face `t`'s row of
     /// the first-order operator vanishes (all `false` for operators without one).
     pub fn find(

@@ -10,7 +10,7 @@
 //! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants | no |
 //! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y` (pinned), `λ = x*Ax / x*Gx` | flat vertices, constants | no |
 //! | family `L(τ)`, blended, `0 < τ < 1` | `A_τ x = λ B_τ x` | as Dirac | constants | yes |
-//! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | not analysed | — |
+//! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | constants that `K(τ)` annihilates (closed pieces) | yes |
 //!
 //! with `U = κ₁² + κ₂²` the Willmore potential ([`crate::curvature::willmore_potential`]),
 //! `K_α` the anisotropic stiffness `Σ_t A_t ∇φ_i · H_t ∇φ_j` with the per-face conductivity
@@ -18,8 +18,10 @@
 //! ([`crate::anisotropic::anisotropic_laplacian`]; `α = 0` is Laplace),
 //! `A = D* M_F D`, `G = sym(Bᵀ M_F D)`, `A_τ = τA + (1−τ)L`, `B_τ = τG + (1−τ)M` (τ = 0 is
 //! Laplace, τ = 1 relative Dirac), `ε` a shift `10⁻¹⁰` times the mean diagonal ratio of `P`
-//! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` a Gershgorin bound that makes `K(τ) + σM` positive
-//! definite.
+//! to `M`, `Σ P_pp / Σ M_pp` (mapped back exactly), and `σ` the smallest shift, within a
+//! factor of 2, that makes `K(τ) + σM` positive definite (found by trial factorisations; the
+//! literal family is collected from the bottom of its spectrum, so a strongly indefinite
+//! `K(τ)` is [`SpectrumError::IndefiniteLiteralFamily`]).
 //!
 //! **Arithmetic.** Laplace, modified Dirichlet and anisotropic Laplace are real operators:
 //! their quaternionic form `P⊗I` has the real spectrum of `P` with every eigenvector a real one
@@ -74,7 +76,7 @@ use thiserror::Error;
 
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, flatness_around};
-use pencil::{Form, Matrices, OperatorPencil, PencilSpec};
+use pencil::{Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, products};
 
 use crate::geometry::barycentric_masses;
@@ -492,7 +494,8 @@ impl Operator {
 
     /// Whether the kernel's eigenvalue `0` is listed unless asked otherwise: yes for the
     /// operators whose kernel is at most the constants and whose zero eigenvalue is an
-    /// ordinary one (Laplace, anisotropic Laplace, modified Dirichlet, the family for `τ < 1`),
+    /// ordinary one (Laplace, anisotropic Laplace, modified Dirichlet, the literal family, the
+    /// blended family for `τ < 1`),
     /// no for `D_N`, `D_f`
     /// and `D_N* D_N`, whose kernel holds every flat vertex (hundreds to thousands on man-made
     /// shapes) and where the pencil is singular.
@@ -702,6 +705,19 @@ pub enum SpectrumError {
         /// Vertices (all in the kernel).
         vertices: usize,
     },
+    /// The extrinsic Dirac operator on a mesh with a planar component, where its kernel holds
+    /// the linear functions of the plane besides the constants.
+    #[error(
+        "the extrinsic Dirac operator D_f is not solved on planar pieces: the component of \
+         vertex {vertex} lies in one plane, where D_f (the Cauchy–Riemann operator of the \
+         plane) annihilates the linear functions a·f (a in the plane) besides the constants, a \
+         kernel the solver does not remove; for the spectrum of a flat domain use --operator \
+         laplace"
+    )]
+    PlanarExtrinsicDirac {
+        /// The smallest vertex of the planar component.
+        vertex: usize,
+    },
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(
         "asked for {wanted} nonzero eigenvalues, but outside its kernel of dimension \
@@ -729,6 +745,24 @@ pub enum SpectrumError {
         flatness: Option<f64>,
         /// The flat tolerance in force.
         flat_tolerance: f64,
+    },
+    /// The literal family is solved from the bottom of its spectrum (its matrix `(1−τ)L + τG`
+    /// is indefinite, and the eigensolver factorises positive definite matrices only), and on
+    /// this mesh so many of its eigenvalues are negative that all of them would have to be
+    /// computed before the wanted ones.
+    #[error(
+        "the literal family is strongly indefinite on this mesh: it is solved from the bottom of \
+         its spectrum, and at least {negative} of its eigenvalues are negative (the lowest \
+         {lowest:.3e}), below the {wanted} nonzero ones of smallest |λ|; use --operator family:T, the \
+         blended pencil, which is definite, or a smaller T"
+    )]
+    IndefiniteLiteralFamily {
+        /// Nonzero eigenvalues wanted.
+        wanted: usize,
+        /// Negative eigenvalues computed before giving up (a lower bound on their number).
+        negative: usize,
+        /// The lowest eigenvalue.
+        lowest: f64,
     },
     /// [`relative_spectrum`] was given a reference surface with another triangulation.
     #[error(
@@ -942,15 +976,12 @@ fn solve_pencil<T: Scalar<Real = f64>>(
     mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     let masses = barycentric_masses(mesh);
-    let kernel = match spec.form {
-        Form::Literal { .. } => ExactKernel::none(),
-        _ => ExactKernel::find(
-            mesh,
-            &spec.flat,
-            &spec.solved().stiffness,
-            &spec.solved().coupling,
-        ),
-    };
+    let kernel = ExactKernel::find(
+        mesh,
+        &spec.flat,
+        &spec.solved().stiffness,
+        &spec.solved().coupling,
+    );
     let listed = if options.include_kernel {
         kernel.summary().dimension.min(options.k)
     } else {
@@ -1122,7 +1153,8 @@ fn finish<T: Scalar<Real = f64>>(
     kernel: KernelSummary,
 ) -> Result<Spectrum, SpectrumError> {
     let values = &pairs.values;
-    let mut order = magnitude_order(values, qeig::relative_cluster_width(options.tolerance));
+    let cluster_width = qeig::relative_cluster_width(options.tolerance);
+    let mut order = magnitude_order(values, cluster_width);
     order.truncate(options.k);
     let eigenvalues: Vec<f64> = order.iter().map(|&i| values[i]).collect();
     // Moved, not copied: at a million vertices each copy of k eigenvectors is gigabytes.
@@ -1131,7 +1163,7 @@ fn finish<T: Scalar<Real = f64>>(
         .map(|&i| slots[i].take().expect("the order lists each pair once"))
         .collect();
     drop(slots);
-    orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, 1e-8);
+    orthonormalize_and_canonicalize(masses, &eigenvalues, &mut eigenvectors, cluster_width);
     let norms = (
         scaled_norm(&operator.stiffness, masses),
         scaled_norm(&operator.coupling, masses),

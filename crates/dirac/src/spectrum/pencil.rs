@@ -2,15 +2,20 @@
 //! own eigenproblem `P x = λ Q x`, the matrices that are solved, and how, over the scalar the
 //! operator is assembled in ([`OperatorPencil`]).
 
-use qscalar::{Quat, Scalar};
-use qsparse::SparseMatrix;
+use std::sync::Arc;
 
-use super::kernel::{flat_faces, vanishing_faces};
+use qscalar::{Quat, Scalar};
+use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
+
+use super::kernel::{Reduction, flat_faces, vanishing_faces};
 use super::{Operator, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
-use crate::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
+use crate::disjoint_sets::DisjointSets;
+use crate::geometry::{
+    barycentric_masses, cotan_laplacian, cross, norm, normalize, sub, vertex_normals,
+};
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
 use crate::well::{dirac_with_well, laplacian_with_well};
 
@@ -30,7 +35,8 @@ pub(super) enum Form {
     /// `Q = M`, `P` indefinite: `M x = μ (P + σM) x`, `λ = 1/μ − σ`, collected from the bottom
     /// of the spectrum until the `k` of smallest `|λ|` are certain.
     Literal {
-        /// The Gershgorin shift `σ` that makes `P + σM` positive definite.
+        /// A shift `σ` that makes `P + σM` positive definite, as small as a factorisation
+        /// allows (`definite_shift`).
         sigma: f64,
     },
 }
@@ -134,7 +140,12 @@ impl OperatorPencil {
             }
             Operator::Squared => dirac(relative)?.squared(mass(), &masses, potential, mesh),
             Operator::RelativeDirac | Operator::Family { tau: 1.0 } => dirac(relative)?.pinned(),
-            Operator::ExtrinsicDirac => dirac(SecondImmersion::Positions)?.pinned(),
+            Operator::ExtrinsicDirac => {
+                if let Some(vertex) = planar_component(mesh) {
+                    return Err(SpectrumError::PlanarExtrinsicDirac { vertex });
+                }
+                dirac(SecondImmersion::Positions)?.pinned()
+            }
             Operator::Family { tau } => {
                 // `L` does not vanish on flat faces: no face is flat for the blend.
                 let first = dirac(relative)?.operator;
@@ -149,7 +160,7 @@ impl OperatorPencil {
                 let first = dirac(relative)?.operator;
                 let l = quaternionic(&laplacian(cotan_laplacian(mesh))?);
                 let stiffness = blend(tau, &first.coupling, &l)?;
-                let sigma = gershgorin_shift(&stiffness, &masses);
+                let sigma = definite_shift(&stiffness, &masses);
                 let matrices = Matrices {
                     stiffness,
                     coupling: mass(),
@@ -335,6 +346,39 @@ fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64
     .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
+/// Unit face normals closer than this lie in one plane (rounding leaves `~10⁻¹⁶`, and `10⁻¹³`
+/// on sliver faces).
+const PLANAR_TOLERANCE: f64 = 1e-10;
+
+/// The smallest vertex of a connected component whose faces all lie in one plane (unit normals
+/// within [`PLANAR_TOLERANCE`] of its first face's), if there is one.
+///
+/// On such a piece `D_f` annihilates, besides the constants, the linear functions `a f q` with
+/// `a` a unit vector of the plane (`df ∧ d(a f) = 0` there, and the discrete operator is exact
+/// on linear functions), a kernel the solver does not remove.
+fn planar_component(mesh: &TriMesh) -> Option<usize> {
+    let mut components = DisjointSets::new(mesh.vertex_count());
+    for &[a, b, c] in mesh.faces() {
+        components.union(a, b);
+        components.union(a, c);
+    }
+    let mut first: Vec<Option<[f64; 3]>> = vec![None; mesh.vertex_count()];
+    let mut planar = vec![true; mesh.vertex_count()];
+    let positions = mesh.positions();
+    for &[a, b, c] in mesh.faces() {
+        let normal = normalize(cross(
+            sub(positions[b], positions[a]),
+            sub(positions[c], positions[a]),
+        ));
+        let root = components.find(a);
+        match first[root] {
+            None => first[root] = Some(normal),
+            Some(reference) => planar[root] &= norm(sub(normal, reference)) <= PLANAR_TOLERANCE,
+        }
+    }
+    (0..mesh.vertex_count()).find(|&v| planar[components.find(v)])
+}
+
 /// `ε = 10⁻¹⁰ · Σ_p P_pp / Σ_p M_pp` over the vertices inside the well (`U_p = 0`; all
 /// vertices without one), or `10⁻¹⁰` if that vanishes: the mass-weighted mean of the diagonal
 /// ratios, a scale of the operator itself (not of the well's wall, up to `c` or `c²`, nor of
@@ -357,6 +401,58 @@ fn regularization<T: Scalar<Real = f64>>(
         } else {
             1.0
         }
+}
+
+/// The shift `σ` of the literal family's pencil `M x = μ (K + σM) x`, `λ = 1/μ − σ`: the
+/// smallest, within a factor of 2, whose `M^{-1/2} (K + σM) M^{-1/2}` (the matrix the
+/// eigensolver factors) the Cholesky factorisation accepts.
+///
+/// It must be small: the wanted `μ = 1/(λ + σ)` of the smallest `|λ|` differ by about
+/// `|λ|/σ` relative to `1/σ`, so Gershgorin's shift, of the order of the largest eigenvalue
+/// (10⁴ above the smallest nonzero one on a 3,000-vertex mesh), left them inseparable and
+/// Lanczos without a converged pair. Tried from below: the shifted form's `ε`
+/// ([`regularization`]), which suffices when `K` is semidefinite (small `τ`), then by
+/// bisection of the exponent between the largest shift refused and Gershgorin's, which is
+/// certain in exact arithmetic. Each trial is one numeric factorisation of one pattern.
+fn definite_shift(stiffness: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
+    let certain = gershgorin_shift(stiffness, masses);
+    let Some(scaled) = Reduction::without(masses, []).matrix(stiffness) else {
+        return certain;
+    };
+    let identity = SparseMatrix::identity(masses.len());
+    let shifted = |sigma: f64| {
+        SparseMatrix::linear_combination(
+            Quat::from_real(1.0),
+            &scaled,
+            Quat::from_real(sigma),
+            &identity,
+        )
+    };
+    let Ok(symbolic) = shifted(certain)
+        .map_err(|_| ())
+        .and_then(|a| SymbolicCholesky::analyze(&a).map_err(|_| ()))
+    else {
+        return certain;
+    };
+    let symbolic = Arc::new(symbolic);
+    let accepted = |sigma: f64| {
+        shifted(sigma).is_ok_and(|a| {
+            SparseCholesky::factorize_with_symbolic(Arc::clone(&symbolic), &a).is_ok()
+        })
+    };
+    let (mut refused, mut accepting) = (regularization(stiffness, masses, None), certain);
+    if refused >= accepting || accepted(refused) {
+        return refused.min(accepting);
+    }
+    while accepting > 2.0 * refused {
+        let middle = (refused * accepting).sqrt();
+        if accepted(middle) {
+            accepting = middle;
+        } else {
+            refused = middle;
+        }
+    }
+    accepting
 }
 
 /// Gershgorin on `M^{-1/2} K M^{-1/2}`: every `λ ≥ min_p (K_pp/M_pp − Σ_{q≠p} |K_pq|/√(M_pp

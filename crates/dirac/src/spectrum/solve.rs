@@ -152,18 +152,16 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
     let pins = kernel.constants.iter().map(|c| c.vertices[0]);
     let reduction = match form {
         Form::Pinned => Reduction::without(masses, flat.chain(pins)),
-        Form::Literal { .. } => Reduction::without(masses, []),
-        Form::Shifted { .. } => Reduction::without(masses, flat),
+        Form::Shifted { .. } | Form::Literal { .. } => Reduction::without(masses, flat),
     };
     let mut constraints = Vec::new();
     let mut low_rank = Vec::new();
     for mode in &kernel.constants {
         let g = &mode.image;
         match (form, mode.coupling) {
-            (Form::Literal { .. }, _) | (Form::Pinned, Coupling::Free) => {}
-            (Form::Shifted { .. }, _) | (Form::Pinned, Coupling::Orthogonal) => {
-                constraints.push(reduction.functional(g))
-            }
+            (Form::Pinned, Coupling::Free) => {}
+            (Form::Shifted { .. } | Form::Literal { .. }, _)
+            | (Form::Pinned, Coupling::Orthogonal) => constraints.push(reduction.functional(g)),
             (Form::Pinned, Coupling::Oblique) => {
                 let along = indicator_inner(&mode.vertices, g);
                 low_rank.push((reduction.functional(g), 1.0 / along));
@@ -219,8 +217,17 @@ fn map_pairs<T: Scalar<Real = f64>>(
     }
 }
 
+/// How many pairs from the bottom of its spectrum the literal family may compute, for
+/// `count` wanted ones, before [`SpectrumError::IndefiniteLiteralFamily`]: its cost grows
+/// with the square of the pairs held, and a mesh with more negative eigenvalues than this
+/// (curved regions where `τG` outweighs `(1−τ)L`) usually has hundreds of them.
+fn literal_limit(count: usize) -> usize {
+    (8 * count).max(64)
+}
+
 /// The literal family: eigenvalues from the bottom until the `count` of smallest `|λ|` are
-/// certain (every `λ` below the highest one computed is known).
+/// certain (every `λ` below the highest one computed is known), doubling the pairs computed
+/// up to [`literal_limit`].
 fn literal<T: Scalar<Real = f64>>(
     reduced: &Reduced<T>,
     sigma: f64,
@@ -253,7 +260,15 @@ fn literal<T: Scalar<Real = f64>>(
             pairs.statistics = statistics;
             return Ok(pairs);
         }
-        computed = (2 * computed).min(n);
+        if computed >= literal_limit(count) {
+            return Err(SpectrumError::IndefiniteLiteralFamily {
+                wanted: count,
+                negative: pairs.values.iter().filter(|&&v| v < 0.0).count(),
+                lowest: pairs.values.iter().copied().fold(f64::INFINITY, f64::min),
+            }
+            .into());
+        }
+        computed = (2 * computed).min(n).min(literal_limit(count));
     }
 }
 
