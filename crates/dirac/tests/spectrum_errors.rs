@@ -139,3 +139,29 @@ fn the_extrinsic_dirac_operator_of_a_planar_mesh_is_an_error_that_names_a_vertex
         .unwrap();
     assert!(spectrum(&bent, &options).is_ok());
 }
+
+/// A short open cylinder (200 segments, height 10⁻³): `D_N` nearly annihilates the functions of
+/// the angle alone, constant along the rulings, so the factorisation fails there. Its faces are
+/// far from flat, so the error must not advise a flat tolerance (following that advice made the
+/// whole mesh "flat" and the operator vanish); it points to the family instead, which is solved.
+#[test]
+fn a_nearly_singular_developable_mesh_is_not_told_to_raise_the_flat_tolerance() {
+    let mesh = dirac::generators::cylinder(200, 2, 1e-3).unwrap();
+    match spectrum(&mesh, &SpectrumOptions::new(Operator::RelativeDirac, 6)) {
+        Err(
+            error @ SpectrumError::NearlySingular {
+                vertex: Some(_),
+                flatness: Some(flatness),
+                ..
+            },
+        ) => {
+            let message = error.to_string();
+            assert!(flatness > 1e-2, "{message}");
+            assert!(!message.contains("--flat-tolerance"), "{message}");
+            assert!(message.contains("family:T"), "{message}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let family = SpectrumOptions::new(Operator::Family { tau: 0.5 }, 6);
+    assert!(spectrum(&mesh, &family).is_ok());
+}

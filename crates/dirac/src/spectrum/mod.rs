@@ -791,6 +791,12 @@ pub enum SpectrumError {
     },
 }
 
+/// Flatness (`|N_a − N_b| √area / |f_a − f_b|`) up to which faces where the operator nearly
+/// vanishes may sensibly be treated as flat: a discrete curvature of 1 % of `1/√area`. More
+/// curved faces make a flat tolerance the wrong advice (it would call the mesh flat where it
+/// is not).
+const FLAT_ADVICE_LIMIT: f64 = 1e-2;
+
 /// The message of [`SpectrumError::NearlySingular`].
 fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, tolerance: f64) -> String {
     let place = vertex.map_or(String::new(), |v| format!(" near vertex {v}"));
@@ -800,16 +806,26 @@ fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, toleran
              tolerance {tolerance:.0e})"
         )
     });
-    let suggestion = flatness
-        .filter(|&s| s > tolerance)
-        .map_or(String::from("a larger value"), |s| {
-            format!("{:.0e}", 10f64.powf((10.0 * s).log10().ceil()))
-        });
+    let remedy = match flatness.filter(|&s| s > tolerance) {
+        Some(s) if s > FLAT_ADVICE_LIMIT => String::from(
+            "those faces are curved, so a flat tolerance would not help: D_N nearly vanishes on \
+             functions constant along straight lines of the surface (developable parts such as \
+             thin cylinders and cones); use --operator family:T (0 < T < 1)",
+        ),
+        Some(s) => format!(
+            "treat such faces as flat with --flat-tolerance {:.0e}, or use --operator family:T \
+             (0 < T < 1)",
+            10f64.powf((10.0 * s).log10().ceil())
+        ),
+        None => String::from(
+            "treat such faces as flat with --flat-tolerance a larger value, or use --operator \
+             family:T (0 < T < 1)",
+        ),
+    };
     format!(
         "the operator is numerically singular{place}{how}: it nearly vanishes there without \
          vanishing exactly, so its smallest eigenvalues are below what double precision \
-         resolves against the rest of the mesh; treat such faces as flat with \
-         --flat-tolerance {suggestion}, or use --operator family:T (0 < T < 1)"
+         resolves against the rest of the mesh; {remedy}"
     )
 }
 
