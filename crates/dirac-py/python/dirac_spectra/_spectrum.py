@@ -182,7 +182,10 @@ def spectrum(
         operator: one of :data:`OPERATORS`: ``"relative-dirac"`` (``D_N``), ``"extrinsic-dirac"``
             (``D_f``), ``"laplace"``, ``"family"`` (``L(τ)``, needs ``tau``), ``"family-literal"``,
             ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``, ``"anisotropic-laplace"``
-            (Andreux et al. 2014, needs ``anisotropy``).
+            (Andreux et al. 2014, needs ``anisotropy``). ``"family-literal"`` is solved from
+            the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
+            on curved meshes) it raises ``SolverError``; ``"extrinsic-dirac"`` on a planar
+            mesh raises ``KernelError``.
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).
@@ -195,8 +198,8 @@ def spectrum(
         tolerance: relative residual the eigensolver aims for.
         seed: seed of the eigensolver's start vectors.
         include_kernel: list the exact kernel's eigenvalue 0 among the ``k``; ``None``: the
-            operator's default (yes for Laplace, modified Dirichlet and the family with
-            ``tau < 1``; no for the Dirac operators and the squared one).
+            operator's default (yes for Laplace, modified Dirichlet, the literal family and
+            the family with ``tau < 1``; no for the Dirac operators and the squared one).
         eigenvectors: return the eigenvectors (they are always computed).
         threads: 1 (``None``, so that pools of worker processes do not oversubscribe the
             cores) or 2 (the most the solver uses).
