@@ -75,7 +75,7 @@ use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 use thiserror::Error;
 
 pub use kernel::KernelSummary;
-use kernel::{ExactKernel, flatness_around};
+use kernel::{ExactKernel, NEARLY_FLAT, flatness_around};
 use pencil::{Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, products};
 
@@ -740,8 +740,9 @@ pub enum SpectrumError {
     NearlySingular {
         /// Where the factorisation failed (native backend), original numbering.
         vertex: Option<usize>,
-        /// The largest flatness `|N_a − N_b| √area / |f_a − f_b|` of the faces around it
-        /// (relative Dirac), which the flat tolerance bounds.
+        /// The flatness `|N_a − N_b| √area / |f_a − f_b|` of the faces around it (relative
+        /// Dirac), which the flat tolerance bounds: the largest of the nearly flat ones (at most
+        /// `10⁻²`), or the smallest when all are more curved.
         flatness: Option<f64>,
         /// The flat tolerance in force.
         flat_tolerance: f64,
@@ -791,26 +792,27 @@ pub enum SpectrumError {
     },
 }
 
-/// Flatness (`|N_a − N_b| √area / |f_a − f_b|`) up to which faces where the operator nearly
-/// vanishes may sensibly be treated as flat: a discrete curvature of 1 % of `1/√area`. More
-/// curved faces make a flat tolerance the wrong advice (it would call the mesh flat where it
-/// is not).
-const FLAT_ADVICE_LIMIT: f64 = 1e-2;
-
 /// The message of [`SpectrumError::NearlySingular`].
 fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, tolerance: f64) -> String {
     let place = vertex.map_or(String::new(), |v| format!(" near vertex {v}"));
     let how = flatness.map_or(String::new(), |s| {
-        format!(
-            " (its faces have flatness {s:.1e}, |N_a − N_b| √area / |f_a − f_b|, above the flat \
-             tolerance {tolerance:.0e})"
-        )
+        if s > NEARLY_FLAT {
+            format!(
+                " (every face around it has flatness {s:.1e} or more, |N_a − N_b| √area / \
+                 |f_a − f_b|: curved, not nearly flat)"
+            )
+        } else {
+            format!(
+                " (its nearly flat faces have flatness up to {s:.1e}, |N_a − N_b| √area / \
+                 |f_a − f_b|, above the flat tolerance {tolerance:.0e})"
+            )
+        }
     });
     let remedy = match flatness.filter(|&s| s > tolerance) {
-        Some(s) if s > FLAT_ADVICE_LIMIT => String::from(
-            "those faces are curved, so a flat tolerance would not help: D_N nearly vanishes on \
-             functions constant along straight lines of the surface (developable parts such as \
-             thin cylinders and cones); use --operator family:T (0 < T < 1)",
+        Some(s) if s > NEARLY_FLAT => String::from(
+            "a flat tolerance would not help: D_N nearly vanishes on functions constant along \
+             straight lines of the surface (developable parts such as thin cylinders and \
+             cones); use --operator family:T (0 < T < 1)",
         ),
         Some(s) => format!(
             "treat such faces as flat with --flat-tolerance {:.0e}, or use --operator family:T \
