@@ -141,7 +141,8 @@ pub(super) fn products<T: Scalar<Real = f64>>(m: &Matrices<T>, x: &[T]) -> (Vec<
 ///   `g = Q 𝟙_S`: nothing if it is free, the constraint `g* y = 0` if it is orthogonal, and if
 ///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
 ///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
-/// * literal: `M y = μ (P + σM) y` on all vertices.
+/// * literal: `M y = μ (P + σM) y`, constrained like the shifted form (`(M 𝟙_S)* y = 0` for
+///   each constant `P` annihilates: `G 𝟙 = 0` on a closed piece).
 pub(super) fn reduce<T: Scalar<Real = f64>>(
     form: Form,
     m: &Matrices<T>,
