@@ -97,7 +97,12 @@ fn solve<T: Scalar<Real = f64>, B: Backend<T>>(
     let (seconds, result) = timed(repeats, || {
         Pencil::new(k_mat, s_mat)
             // `S`-orthogonality to the constants: the constraint `(S 𝟙)ᴴ x = 0`.
-            .and_then(|p| p.with_constraints(vec![image(s_mat, &vec![T::one(); n])]))
+            .and_then(|p| {
+                let constant = image(s_mat, &vec![T::one(); n]);
+                p.with_constraints(
+                    SparseMatrix::from_dense_columns(n, &[constant]).expect("a finite column"),
+                )
+            })
             .and_then(|p| p.solve(backend, &options))
     });
     summary(seconds, &result)

@@ -1,7 +1,7 @@
 //! Fuzz target: two small arbitrary quaternion matrices `K` and `S` (n ≤ 8, occasionally not
 //! square or of different sizes), Hermitian-ised or not, optionally diagonally dominant, with
 //! NaN, ∞, huge, slightly perturbed and moderate entries → `qeig::Pencil::new`, optional
-//! arbitrary constraint vectors, then `solve` with the native backend, arbitrary `k`, `which`
+//! arbitrary constraint vectors (through `SparseMatrix::from_dense_columns`), then `solve` with the native backend, arbitrary `k`, `which`
 //! and (small) iteration limits. Every step must return `Ok` or the typed `EigError` the input
 //! calls for, never panic: `NotSquare` only for a non-square operand, `NonFinite` only for a
 //! non-finite value, `NotHermitian` only (and always) for an operand that is not Hermitian
@@ -15,7 +15,7 @@ use libfuzzer_sys::arbitrary::{Result, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use qeig::{EigError, Eigen, LanczosOptions, Native, Pencil, Which};
 use qscalar::Quat;
-use qsparse::{SparseMatrix, TripletMatrix};
+use qsparse::{SparseError, SparseMatrix, TripletMatrix};
 
 #[path = "quaternion_matrices.rs"]
 mod quaternion_matrices;
@@ -247,39 +247,55 @@ fn run(u: &mut Unstructured) -> Result<()> {
 
     let mut constraints = 0;
     if u.ratio(1, 3)? {
+        // Dense columns of `rows` entries (occasionally not the pencil's size, occasionally
+        // one of another length) → `SparseMatrix::from_dense_columns` → `with_constraints`.
+        let rows = match u.int_in_range(0..=15u8)? {
+            0 => n + 1,
+            1 => n.saturating_sub(1),
+            _ => n,
+        };
         let mut vectors = Vec::new();
         for _ in 0..u.int_in_range(0..=3)? {
-            let len = match u.int_in_range(0..=15u8)? {
-                0 => n + 1,
-                1 => n.saturating_sub(1),
-                _ => n,
-            };
+            let len = if u.ratio(1, 16)? { rows + 1 } else { rows };
             let mut ignored = true;
             let c = (0..len)
                 .map(|_| quat(u, &mut ignored))
                 .collect::<Result<Vec<_>>>()?;
             vectors.push(c);
         }
-        let wrong_length = vectors.iter().any(|c| c.len() != n);
+        let wrong_length = vectors.iter().any(|c| c.len() != rows);
         let non_finite = vectors.iter().flatten().any(|v| !v.is_finite());
+        let matrix = match SparseMatrix::from_dense_columns(rows, &vectors) {
+            Ok(matrix) => matrix,
+            Err(SparseError::DimensionMismatch {
+                expected, found, ..
+            }) => {
+                assert!(wrong_length && expected == rows && found != rows);
+                return Ok(());
+            }
+            Err(SparseError::NonFinite { row, col }) => {
+                assert!(!vectors[col][row].is_finite(), "refused a finite entry");
+                return Ok(());
+            }
+            Err(e) => panic!("unexpected error from from_dense_columns: {e}"),
+        };
+        assert!(!wrong_length && !non_finite, "accepted columns {vectors:?}");
+        for (j, column) in vectors.iter().enumerate() {
+            for (i, &v) in column.iter().enumerate() {
+                assert_eq!(matrix.get(i, j), v, "entry ({i}, {j})");
+            }
+        }
         let count = vectors.len();
-        pencil = match pencil.with_constraints(vectors.clone()) {
+        pencil = match pencil.with_constraints(matrix) {
             Ok(pencil) => {
-                assert!(
-                    !wrong_length && !non_finite,
-                    "accepted constraints {vectors:?}"
-                );
+                assert_eq!(rows, n, "accepted constraints of {rows} rows");
                 constraints = count;
                 pencil
             }
             Err(EigError::DimensionMismatch {
                 expected, found, ..
             }) => {
-                assert!(expected == n && found != n && vectors.iter().any(|c| c.len() == found));
-                Pencil::new(&k, s).expect("accepted before")
-            }
-            Err(EigError::NonFinite(_)) => {
-                assert!(non_finite, "refused finite constraints {vectors:?}");
+                assert!(expected == n && found == rows && rows != n);
                 Pencil::new(&k, s).expect("accepted before")
             }
             Err(e) => panic!("unexpected error from with_constraints: {e}"),

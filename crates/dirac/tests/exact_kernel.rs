@@ -13,8 +13,8 @@ use dirac::spectrum::{
     Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, spectrum,
 };
 use qeig::dense::hermitian_eigen;
-use qscalar::Quat;
 use qscalar::random::SplitMix64;
+use qscalar::{Quat, Scalar};
 use qsparse::{DenseMatrix, SparseMatrix};
 
 /// Dense `M^{-1/2} X M^{-1/2}`.
@@ -446,4 +446,81 @@ fn every_backend_and_operator_handles_the_flat_kernel() {
     let modified = spectrum(&mesh, &willmore).unwrap();
     assert_eq!(modified.kernel.dimension, 0);
     assert!(modified.eigenvalues[0] > 0.0);
+}
+
+/// `copies` translated copies of `mesh`, side by side.
+fn copies_of(mesh: &TriMesh, copies: usize) -> TriMesh {
+    let n = mesh.vertex_count();
+    let positions = (0..copies)
+        .flat_map(|c| (mesh.positions().iter()).map(move |&[x, y, z]| [x + 3.0 * c as f64, y, z]))
+        .collect();
+    let faces = (0..copies)
+        .flat_map(|c| {
+            (mesh.faces().iter()).map(move |&[i, j, k]| [i + c * n, j + c * n, k + c * n])
+        })
+        .collect();
+    TriMesh::new(positions, faces).unwrap()
+}
+
+/// A mesh of many components carries one constant per component in its kernel, constrained
+/// away locally (each constraint touches its own component only, on the real path of Laplace
+/// and the quaternionic one of the squared operator) or pinned (relative Dirac). The spectrum
+/// of 40 copies of a cube is that of one cube, every eigenvalue 40 times (for relative Dirac:
+/// the dense reference of one cube), and every eigenvector is mass-orthogonal to the constant
+/// of every copy.
+#[test]
+fn many_components_repeat_the_spectrum_of_one() {
+    let copies = 40;
+    let cube = subdivided_cube(2).unwrap();
+    let union = copies_of(&cube, copies);
+    let masses = barycentric_masses(&union);
+    let n = cube.vertex_count();
+    let (dense_kernel, dense) = dense_reference(&cube);
+    for operator in [
+        Operator::RelativeDirac,
+        Operator::Laplace,
+        Operator::Squared,
+    ] {
+        let options = |k| SpectrumOptions {
+            include_kernel: false,
+            ..SpectrumOptions::new(operator, k)
+        };
+        let one = spectrum(&cube, &options(12)).unwrap();
+        let result = spectrum(&union, &options(copies)).unwrap();
+        assert_eq!(result.eigenvalues.len(), copies);
+        assert_eq!(
+            result.kernel.dimension,
+            copies * one.kernel.dimension,
+            "{operator:?}"
+        );
+        assert_eq!(result.kernel.constants, copies, "{operator:?}");
+        let smallest = one.eigenvalues[0].abs();
+        assert!(smallest > 0.0);
+        if operator == Operator::RelativeDirac {
+            assert_eq!(one.kernel.dimension, dense_kernel);
+            assert!((smallest - dense[0].abs()).abs() <= 1e-9 * smallest);
+        }
+        let multiplicity = (one.eigenvalues.iter())
+            .filter(|l| (l.abs() - smallest).abs() <= 1e-9 * smallest)
+            .count();
+        assert!(multiplicity < one.eigenvalues.len() && multiplicity * copies >= copies);
+        for (i, &got) in result.eigenvalues.iter().enumerate() {
+            assert!(
+                (got.abs() - smallest).abs() <= 1e-9 * smallest,
+                "{operator:?}: |λ_{i}| = {} against one copy's {smallest}",
+                got.abs()
+            );
+        }
+        for (i, x) in result.eigenvectors.iter().enumerate() {
+            for c in 0..copies {
+                let mut constant = vec![Quat::from_real(0.0); union.vertex_count()];
+                constant[c * n..(c + 1) * n].fill(Quat::from_real(1.0));
+                let along = mass_inner(&masses, &constant, x).abs();
+                assert!(
+                    along <= 1e-9,
+                    "{operator:?}: eigenvector {i} on copy {c}: {along}"
+                );
+            }
+        }
+    }
 }

@@ -39,7 +39,9 @@ fn quaternionic_laplacian_eigenvalues<B: qeig::Backend<Quat<f64>>>(
     // Mass-orthogonal to the constants: `(M 𝟙)ᴴ x = 0`, with `K = M` diagonal.
     let eig = Pencil::new(&k_mat, &s_mat)
         .unwrap()
-        .with_constraints(vec![k_mat.values().to_vec()])
+        .with_constraints(
+            SparseMatrix::from_dense_columns(k_mat.nrows(), &[k_mat.values().to_vec()]).unwrap(),
+        )
         .unwrap()
         .solve(backend, &LanczosOptions::new(k, Which::LargestMagnitude))
         .unwrap();

@@ -27,9 +27,11 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 use qscalar::Scalar;
 use qsparse::vector;
 
+use crate::constraints::Constraints;
 use crate::memory::{self, BasisTooLarge};
 
-/// `n`-vectors stored contiguously column after column, in the blocked layout.
+/// `n`-vectors stored contiguously column after column, in the blocked layout, orthonormal and
+/// orthogonal to a set of [`Constraints`], against which every orthogonalisation also projects.
 #[derive(Debug)]
 pub(crate) struct Basis<V> {
     /// Entries per stored column: `vector::blocked_len(dimension)`.
@@ -37,25 +39,43 @@ pub(crate) struct Basis<V> {
     /// Dimension of the vectors.
     dimension: usize,
     data: Vec<V>,
+    constraints: Constraints<V>,
     /// Columns read by Gram–Schmidt passes so far (the orthogonalisation's memory traffic is
     /// this times the size of a column).
     columns_read: AtomicUsize,
 }
 
 impl<V: Scalar<Real = f64>> Basis<V> {
-    /// An empty basis of `dimension`-vectors.
+    /// An empty basis of `dimension`-vectors, without constraints.
+    #[cfg(test)]
     pub(crate) fn new(dimension: usize) -> Self {
+        Self::constrained(dimension, Vec::new())
+    }
+
+    /// An empty basis of `dimension`-vectors in the orthogonal complement of `constraints`
+    /// (ordinary vectors, orthonormalised by [`Constraints::new`]).
+    pub(crate) fn constrained(
+        dimension: usize,
+        constraints: impl IntoIterator<Item = Vec<V>>,
+    ) -> Self {
         Self {
             n: vector::blocked_len::<V>(dimension),
             dimension,
             data: Vec::new(),
+            constraints: Constraints::new(dimension, constraints),
             columns_read: AtomicUsize::new(0),
         }
     }
 
-    /// Bytes of the storage (the largest the basis has been: it never shrinks while iterating).
+    /// Orthonormal constraint directions the columns are orthogonal to.
+    pub(crate) fn constraint_count(&self) -> usize {
+        self.constraints.count()
+    }
+
+    /// Bytes of the storage (the largest the basis has been: it never shrinks while
+    /// iterating), the constraints included.
     pub(crate) fn reserved_bytes(&self) -> usize {
-        self.data.capacity() * std::mem::size_of::<V>()
+        self.data.capacity() * std::mem::size_of::<V>() + self.constraints.bytes()
     }
 
     /// Columns read by Gram–Schmidt passes so far.
@@ -190,11 +210,11 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         head[low * n..(low + 1) * n].swap_with_slice(&mut tail[..n]);
     }
 
-    /// Columns `start..` as separate vectors (the others dropped), freeing the basis's memory as
-    /// they are taken: at no time is more than one column held twice.
-    pub(crate) fn into_columns(mut self, start: usize) -> Vec<Vec<V>> {
-        let mut columns = Vec::with_capacity(self.cols().saturating_sub(start));
-        while self.cols() > start {
+    /// The columns as separate vectors, freeing the basis's memory as they are taken: at no
+    /// time is more than one column held twice.
+    pub(crate) fn into_columns(mut self) -> Vec<Vec<V>> {
+        let mut columns = Vec::with_capacity(self.cols());
+        while self.cols() > 0 {
             let last = self.cols() - 1;
             let mut column = vec![V::zero(); self.dimension];
             self.column_to(last, &mut column);
@@ -231,15 +251,16 @@ impl<V: Scalar<Real = f64>> Basis<V> {
         pass(self, m, w, coef, two_threads);
     }
 
-    /// Orthogonalises `w` against columns `0..m`, with a second pass when the first one
-    /// removed more than `1 − 1/√2` of the norm ("twice is enough", Daniel–Gragg–Kaufman–
-    /// Stewart). `coef[..m]` receives the total coefficients. Returns `‖w‖` before and after.
+    /// Orthogonalises `w` against the constraints and columns `0..m`, with a second pass when
+    /// the first one removed more than `1 − 1/√2` of the norm ("twice is enough",
+    /// Daniel–Gragg–Kaufman–Stewart). `coef[..m]` receives the total coefficients. Returns `‖w‖` before and after.
     pub(crate) fn orthogonalize(&self, m: usize, w: &mut [V], coef: &mut Vec<V>) -> (f64, f64) {
         coef.clear();
         coef.resize(m, V::zero());
         let before = vector::norm(w);
         let mut last = before;
         for _ in 0..3 {
+            self.constraints.project(w);
             self.pass(m, w, coef);
             let now = vector::norm(w);
             let stop = now > std::f64::consts::FRAC_1_SQRT_2 * last;

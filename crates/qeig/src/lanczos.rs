@@ -11,8 +11,8 @@
 //!
 //! * **Expansion.** `w = A qⱼ`; the three-term recurrence `w −= qⱼ αⱼ + qⱼ₋₁ βⱼ₋₁` is followed
 //!   by a full Gram–Schmidt pass (modified, two columns at a time, each basis vector read
-//!   from memory once) against the deflation vectors, the locked vectors and the whole active
-//!   basis, repeated once when it removed more than `1 − 1/√2` of the norm (coefficients on
+//!   from memory once) against the locked vectors and the whole active basis, after the
+//!   projection against the deflation vectors, both repeated once when it removed more than `1 − 1/√2` of the norm (coefficients on
 //!   the right). If `βⱼ` vanishes (an invariant subspace) a fresh random vector orthogonal to
 //!   everything is appended with coupling `0`, which keeps the projected matrix exact.
 //! * **Thick restart.** When the basis is full (or earlier, at a *check point* after a step,
@@ -51,8 +51,10 @@
 //!   The run stops after a round that locked nothing better than the current `k`-th pair. An
 //!   eigenvalue of multiplicity `m` is complete after at most `m + 1` rounds; ties at the
 //!   window's edge are broken arbitrarily.
-//! * **Deflation.** A user subspace (orthonormalised) sits in front of the basis and every
-//!   vector is orthogonalised against it, so the iteration never leaves its complement.
+//! * **Deflation.** Every vector is projected onto the complement of a user subspace
+//!   (orthonormalised, and stored over the entries each of its directions touches: the
+//!   constant per component of a mesh in many pieces is local), so the iteration never leaves
+//!   it.
 //!
 //! Tolerance: relative, `tol` on the estimate and on the true residual of every locked pair,
 //! except pairs at rounding level (`√tol` on the true residual, above).
@@ -365,7 +367,8 @@ struct Stopped;
 /// per step: [`Lanczos::start_round`], [`Lanczos::expand`], [`Lanczos::ritz_pairs`],
 /// [`Lanczos::locking_candidates`], [`Lanczos::restart`].
 ///
-/// The basis is laid out as `[deflation | locked | kept Ritz vectors | Krylov vectors]`:
+/// The basis is laid out as `[locked | kept Ritz vectors | Krylov vectors]`, all orthogonal
+/// to the deflation directions the basis holds apart ([`Basis::constrained`]):
 /// the *active* basis starts after the locked vectors, its first `kept` columns are the Ritz
 /// vectors kept at the last restart, and `h` is the projected matrix of the active basis
 /// (an arrowhead for the kept vectors, then tridiagonal).
@@ -376,7 +379,7 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     /// Pairs wanted (iteration space).
     k: usize,
     n: usize,
-    /// Deflation columns in front of the basis.
+    /// Deflation directions: the iteration runs in a space of dimension `n − deflation`.
     deflation: usize,
     /// Largest active dimension.
     max_active: usize,
@@ -443,7 +446,7 @@ where
         progress: Option<ProgressCallback<'p>>,
     ) -> Result<Self, BasisTooLarge> {
         let n = op.dim();
-        let deflation = basis.cols();
+        let deflation = basis.constraint_count();
         let max_active = if options.max_dim == 0 {
             active_for(k)
         } else {
@@ -451,8 +454,8 @@ where
         }
         .min(n - deflation)
         .max(1);
-        // Deflation, k locked pairs, the active basis and its continuation vector.
-        let columns = (deflation + k + max_active + 1).min(n + 1);
+        // k locked pairs, the active basis and its continuation vector.
+        let columns = (k + max_active + 1).min(n - deflation + 1);
         basis.reserve_columns(columns, options.memory_limit)?;
         let layout_len = basis.layout_len();
         Ok(Self {
@@ -498,7 +501,9 @@ where
         } else {
             self.max_active
         };
-        wanted.min(self.max_active).min(self.n - base)
+        wanted
+            .min(self.max_active)
+            .min(self.n - self.deflation - base)
     }
 
     /// Pairs still needed (at least one).
@@ -526,14 +531,14 @@ where
 
     /// First column of the active basis.
     fn base(&self) -> usize {
-        self.deflation + self.locked.len()
+        self.locked.len()
     }
 
     /// Starts a round from a fresh random vector orthogonal to the deflation and locked
     /// vectors; `false` if there is no room or no such vector left.
     fn start_round(&mut self) -> bool {
         let base = self.base();
-        if base >= self.n {
+        if base + self.deflation >= self.n {
             return false;
         }
         self.statistics.rounds += 1;
@@ -728,7 +733,7 @@ where
 
     /// The thick restart: Ritz vectors of the candidates and of the best other pairs (in place
     /// in the active basis), locking of the candidates whose true residual passes, and the new
-    /// layout `[deflation | locked | kept | continuation]`.
+    /// layout `[locked | kept | continuation]`.
     fn restart(
         &mut self,
         pairs: &RitzPairs,
@@ -940,11 +945,11 @@ where
         let converged = converged && self.locked.len() >= self.k;
         let values = order.iter().map(|&i| self.locked[i]).collect();
         let mut basis = self.basis;
-        basis.truncate(self.deflation + self.locked.len());
-        basis.select_columns(self.deflation, &order);
+        basis.truncate(self.locked.len());
+        basis.select_columns(0, &order);
         Outcome {
             values,
-            vectors: basis.into_columns(self.deflation),
+            vectors: basis.into_columns(),
             converged,
             statistics,
         }
@@ -989,8 +994,8 @@ impl<T> From<RunError> for EigError<T> {
     }
 }
 
-/// Runs the iteration for `k` pairs of `op` in the orthogonal complement of the orthonormal
-/// columns already in `basis`.
+/// Runs the iteration for `k` pairs of `op` in the orthogonal complement of `basis`'s
+/// constraints (`basis` holds no columns yet).
 pub(crate) fn run<V, O>(
     op: &mut O,
     options: &LanczosOptions,
@@ -1032,19 +1037,15 @@ where
 {
     let n = op.dim();
     validate_options(options)?;
-    let mut basis = Basis::new(n);
-    let mut coef = Vec::new();
-    for d in deflation {
-        if d.len() != n {
-            return Err(EigError::DimensionMismatch {
-                expected: n,
-                found: d.len(),
-                context: "deflation vector",
-            });
-        }
-        basis.append_ordinary(d, &mut coef);
+    if let Some(d) = deflation.iter().find(|d| d.len() != n) {
+        return Err(EigError::DimensionMismatch {
+            expected: n,
+            found: d.len(),
+            context: "deflation vector",
+        });
     }
-    let available = n - basis.cols();
+    let basis = Basis::constrained(n, deflation.iter().cloned());
+    let available = n - basis.constraint_count();
     if options.k == 0 || options.k > available {
         return Err(EigError::InvalidCount {
             k: options.k,

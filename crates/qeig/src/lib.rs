@@ -45,6 +45,7 @@
 
 mod backend;
 mod basis;
+mod constraints;
 pub mod dense;
 mod error;
 pub mod lanczos;

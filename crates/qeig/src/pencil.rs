@@ -51,7 +51,8 @@ pub struct Pencil<'a, T: Clone> {
     k: Cow<'a, SparseMatrix<T>>,
     s: Cow<'a, SparseMatrix<T>>,
     scaling: Scaling,
-    constraints: Vec<Vec<T>>,
+    /// Constraint vectors `c` (columns): solutions satisfy `cᴴ x = 0`.
+    constraints: SparseMatrix<T>,
     /// `(u, a w)`: the terms of `a (K − Σ w u uᴴ)`.
     low_rank: Vec<(Vec<T>, f64)>,
 }
@@ -140,38 +141,41 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
                 });
             }
         }
+        let n = s.nrows();
         Ok(Self {
             k,
             s,
             scaling,
-            constraints: Vec::new(),
+            constraints: SparseMatrix::zeros(n, 0),
             low_rank: Vec::new(),
         })
     }
 
-    /// Restricts the pencil to `{x : cᴴ x = 0 for every c in the quaternionic span of
-    /// constraints}`: the eigenpairs of the pencil compressed to that subspace, with test
-    /// vectors from the same subspace (`K x − μ S x ∈ span(S⁻¹…)` is not required; the
-    /// compression is what [`Pencil::solve`] returns). Two common uses:
+    /// Restricts the pencil to `{x : cᴴ x = 0 for every c in the quaternionic span of the
+    /// columns of constraints}` (an `n × c` sparse matrix: constraints local to parts of the
+    /// problem, one per component of a mesh, cost the size of their supports, not `c · n`):
+    /// the eigenpairs of the pencil compressed to that subspace, with test vectors from the
+    /// same subspace (`K x − μ S x ∈ span(S⁻¹…)` is not required; the compression is what
+    /// [`Pencil::solve`] returns). Two common uses:
     /// * `c = S d` keeps the iteration `S`-orthogonal to `d` (deflation of a known eigenvector
     ///   `d`: the remaining pairs are the others);
     /// * `c = M 𝟙` for the Laplacian pencil `M x = μ (L + εM) x` makes every vector exactly
     ///   mass-orthogonal to the constants.
-    pub fn with_constraints(mut self, vectors: Vec<Vec<T>>) -> Result<Self, EigError<T>> {
+    ///
+    /// Dense vectors become such a matrix with [`SparseMatrix::from_dense_columns`].
+    pub fn with_constraints(mut self, constraints: SparseMatrix<T>) -> Result<Self, EigError<T>> {
         let n = self.dim();
-        for c in &vectors {
-            if c.len() != n {
-                return Err(EigError::DimensionMismatch {
-                    expected: n,
-                    found: c.len(),
-                    context: "constraint vector",
-                });
-            }
-            if c.iter().any(|v| !v.is_finite()) {
-                return Err(EigError::NonFinite("constraint vector"));
-            }
+        if constraints.nrows() != n {
+            return Err(EigError::DimensionMismatch {
+                expected: n,
+                found: constraints.nrows(),
+                context: "constraint vector",
+            });
         }
-        self.constraints = vectors;
+        if constraints.values().iter().any(|v| !v.is_finite()) {
+            return Err(EigError::NonFinite("constraint vector"));
+        }
+        self.constraints = constraints;
         Ok(self)
     }
 
@@ -233,7 +237,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let start = Instant::now();
         validate_options(options)?;
         let n = self.dim();
-        let available = n.saturating_sub(self.constraints.len());
+        let available = n.saturating_sub(self.constraints.ncols());
         if options.k == 0 || options.k > available {
             return Err(EigError::InvalidCount {
                 k: options.k,
@@ -262,18 +266,24 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         );
         let factorization_time = start.elapsed();
 
-        // Constraints in the iteration space: C⁻¹ (c e_u) for every unit e_u, orthonormalised.
+        // Constraints in the iteration space: C⁻¹ (c e_u) for every unit e_u, orthonormalised
+        // (and stored over their supports: one per component of a mesh is local).
         let dim = op.dim();
-        let mut basis = Basis::new(dim);
-        let mut coef = Vec::new();
-        for c in &self.constraints {
-            for u in 0..T::REAL_DIM {
-                let e: T = unit(u);
-                let ce: Vec<T> = c.iter().map(|&x| x * e).collect();
-                let y = op.constraint_direction(&backend.embed(&ce));
-                basis.append_ordinary(&y, &mut coef);
-            }
-        }
+        let constraints = &self.constraints;
+        let directions = (0..constraints.ncols())
+            .flat_map(|j| {
+                (0..T::REAL_DIM).map(move |u| {
+                    let e: T = unit(u);
+                    let mut ce = vec![T::zero(); n];
+                    let (rows, values) = constraints.col(j);
+                    for (&i, &x) in rows.iter().zip(values) {
+                        ce[i] = x * e;
+                    }
+                    ce
+                })
+            })
+            .map(|ce| op.constraint_direction(&backend.embed(&ce)));
+        let basis = Basis::constrained(dim, directions);
 
         let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)?;
         let mut values = Vec::new();

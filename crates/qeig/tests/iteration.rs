@@ -37,7 +37,7 @@ fn deflating_eigenvectors_removes_them() {
         .map(|v| v.into_iter().map(|x| x * q).collect())
         .collect();
     // `S`-orthogonality to `d` is the constraint `(S d)ᴴ x = 0`.
-    let constraints = deflation
+    let constraints: Vec<Vec<Q>> = deflation
         .iter()
         .map(|d| {
             let mut sd = vec![Q::default(); d.len()];
@@ -47,7 +47,7 @@ fn deflating_eigenvectors_removes_them() {
         .collect();
     let eig = Pencil::new(&k_mat, &s_mat)
         .unwrap()
-        .with_constraints(constraints)
+        .with_constraints(SparseMatrix::from_dense_columns(s_mat.nrows(), &constraints).unwrap())
         .unwrap()
         .solve(&Native, &LanczosOptions::new(4, Which::LargestMagnitude))
         .unwrap();
@@ -221,7 +221,7 @@ fn bad_input_is_a_typed_error() {
         Err(EigError::DimensionMismatch { .. })
     ));
     assert!(matches!(
-        p.clone().with_constraints(vec![vec![Q::from_real(1.0); 3]]),
+        p.clone().with_constraints(SparseMatrix::identity(3)),
         Err(EigError::DimensionMismatch { .. })
     ));
     // S indefinite: the factorisation error of each backend.

@@ -25,7 +25,7 @@ fn cycle_pencil<B: Backend<Quat<f64>>>(backend: &B, n: usize, k: usize) {
     let eig = Pencil::new(&mass, &s)
         .unwrap()
         // Mass-orthogonal to the constants: the constraint `(M 𝟙)ᴴ x = 0`.
-        .with_constraints(vec![mass.values().to_vec()])
+        .with_constraints(SparseMatrix::from_dense_columns(n, &[mass.values().to_vec()]).unwrap())
         .unwrap()
         .solve(backend, &LanczosOptions::new(k, Which::LargestMagnitude))
         .unwrap();

@@ -80,6 +80,41 @@ impl<T: Scalar> SparseMatrix<T> {
         })
     }
 
+    /// The `nrows × columns.len()` matrix with the given dense columns, storing their nonzero
+    /// entries (constraints given as full vectors, for instance). Every column must have
+    /// `nrows` finite entries.
+    pub fn from_dense_columns(nrows: usize, columns: &[Vec<T>]) -> Result<Self, SparseError> {
+        let mut col_ptr = Vec::with_capacity(columns.len() + 1);
+        col_ptr.push(0);
+        let (mut row_idx, mut values) = (Vec::new(), Vec::new());
+        for (j, column) in columns.iter().enumerate() {
+            if column.len() != nrows {
+                return Err(SparseError::DimensionMismatch {
+                    expected: nrows,
+                    found: column.len(),
+                    context: "dense column length",
+                });
+            }
+            for (i, &v) in column.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(SparseError::NonFinite { row: i, col: j });
+                }
+                if v != T::zero() {
+                    row_idx.push(i);
+                    values.push(v);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Ok(Self::from_parts_unchecked(
+            nrows,
+            columns.len(),
+            col_ptr,
+            row_idx,
+            values,
+        ))
+    }
+
     /// Builds a matrix from CSC arrays the caller guarantees valid (crate-internal producers).
     pub(crate) fn from_parts_unchecked(
         nrows: usize,

@@ -379,6 +379,44 @@ pub fn from_blocked<T: Scalar<Real = f64>>(x: &[T], out: &mut [T]) {
     }
 }
 
+/// Position of row `row`'s component `component` among the reals of a vector of `T` in the
+/// blocked layout ([`blocked_len`]).
+#[inline]
+fn blocked_real<T: Scalar<Real = f64>>(row: usize, component: usize) -> usize {
+    if quaternion_kernels::<T>() {
+        16 * (row / BLOCK_ROWS) + BLOCK_ROWS * component + row % BLOCK_ROWS
+    } else {
+        T::REAL_DIM * row + component
+    }
+}
+
+/// `out[t] ← x[rows[t]]`: rows of a vector in the blocked layout ([`blocked_len`]) as an
+/// ordinary vector.
+///
+/// # Panics
+/// If `out` is shorter than `rows` or a row lies outside `x`.
+pub fn gather_from_blocked<T: Scalar<Real = f64>>(x: &[T], rows: &[usize], out: &mut [T]) {
+    let (x, out) = (T::as_reals(x), T::as_reals_mut(&mut out[..rows.len()]));
+    for (value, &row) in out.chunks_exact_mut(T::REAL_DIM).zip(rows) {
+        for (component, v) in value.iter_mut().enumerate() {
+            *v = x[blocked_real::<T>(row, component)];
+        }
+    }
+}
+
+/// `x[rows[t]] ← values[t]`: the inverse of [`gather_from_blocked`].
+///
+/// # Panics
+/// If `values` is shorter than `rows` or a row lies outside `x`.
+pub fn scatter_to_blocked<T: Scalar<Real = f64>>(values: &[T], rows: &[usize], x: &mut [T]) {
+    let (values, x) = (T::as_reals(&values[..rows.len()]), T::as_reals_mut(x));
+    for (value, &row) in values.chunks_exact(T::REAL_DIM).zip(rows) {
+        for (component, &v) in value.iter().enumerate() {
+            x[blocked_real::<T>(row, component)] = v;
+        }
+    }
+}
+
 /// `w ← w + v₁ c₁ + v₂ c₂`, then `(⟨n₁, w⟩, ⟨n₂, w⟩)` with the new `w`: two columns of a
 /// modified Gram–Schmidt sweep (classical within the pair: both coefficients of the next pair
 /// come from the same `w`), reading and writing `w` once. All vectors are in the blocked

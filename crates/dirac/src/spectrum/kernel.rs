@@ -46,8 +46,63 @@ pub(super) struct ConstantMode<T> {
     pub vertices: Vec<usize>,
     /// How the other eigenvectors relate to it.
     pub coupling: Coupling,
-    /// `g = Q 𝟙_S`, full length.
-    pub image: Vec<T>,
+    /// `g = Q 𝟙_S`.
+    pub image: Image<T>,
+}
+
+/// A vector by its entries in a few rows, such as `g = Q 𝟙_S` in the rows `Q` couples to the
+/// piece: held in full, the images of a mesh of thousands of pieces (a triangle soup) would
+/// take gigabytes.
+#[derive(Debug, Clone)]
+pub(super) struct Image<T> {
+    /// Rows of the entries, increasing.
+    pub rows: Vec<usize>,
+    /// The entries at those rows.
+    pub values: Vec<T>,
+}
+
+impl<T: Scalar<Real = f64>> Image<T> {
+    /// `Σ_i |g_i|`.
+    fn l1(&self) -> f64 {
+        self.values.iter().map(|q| q.abs()).sum()
+    }
+
+    /// `𝟙_S* g = Σ_{p ∈ S} g_p` (`support` increasing).
+    pub fn sum_over(&self, support: &[usize]) -> T {
+        let mut sum = T::zero();
+        let mut position = 0;
+        for (&row, &value) in self.rows.iter().zip(&self.values) {
+            // Both lists increase: walk them together.
+            while position < support.len() && support[position] < row {
+                position += 1;
+            }
+            if support.get(position) == Some(&row) {
+                sum += value;
+            }
+        }
+        sum
+    }
+
+    /// `⟨g, x⟩ = Σ_i conj(g_i) x_i`.
+    pub fn inner(&self, x: &[T]) -> T {
+        (self.rows.iter().zip(&self.values))
+            .map(|(&i, &g)| g.conj() * x[i])
+            .sum()
+    }
+
+    /// `⟨g, g⟩`.
+    pub fn norm_squared(&self) -> f64 {
+        self.values.iter().map(|g| g.abs2()).sum()
+    }
+
+    /// The full vector of length `n`.
+    pub fn to_dense(&self, n: usize) -> Vec<T> {
+        let mut x = vec![T::zero(); n];
+        for (&i, &v) in self.rows.iter().zip(&self.values) {
+            x[i] = v;
+        }
+        x
+    }
 }
 
 /// The kernel of a pencil that is known exactly: flat vertices and constant modes.
@@ -92,22 +147,20 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         for p in (0..n).filter(|&p| touches_curved[p]) {
             members[pieces.find(p)].push(p);
         }
-        let constants = members
-            .into_iter()
-            .filter(|piece| !piece.is_empty())
-            .filter(|piece| {
-                let image = image_of_indicator(stiffness, piece);
-                l1(&image) <= CONSTANT_TOLERANCE * column_mass(stiffness, piece)
-            })
-            .map(|vertices| {
-                let image = image_of_indicator(coupling, &vertices);
-                ConstantMode {
-                    coupling: classify(coupling, &vertices, &image),
-                    image,
-                    vertices,
-                }
-            })
-            .collect();
+        let mut accumulator = Accumulator::new(n);
+        let mut constants = Vec::new();
+        for vertices in members.into_iter().filter(|piece| !piece.is_empty()) {
+            let residue = accumulator.image_of_indicator(stiffness, &vertices);
+            if residue.l1() > CONSTANT_TOLERANCE * column_mass(stiffness, &vertices) {
+                continue;
+            }
+            let image = accumulator.image_of_indicator(coupling, &vertices);
+            constants.push(ConstantMode {
+                coupling: classify(coupling, &vertices, &image),
+                image,
+                vertices,
+            });
+        }
         Self {
             flat_vertices,
             constants,
@@ -145,21 +198,20 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
 
 /// The [`Coupling`] of `𝟙_S` through `Q` (`g = Q 𝟙_S`), judged against the size of `Q` on the
 /// piece.
-fn classify<T: Scalar<Real = f64>>(q: &SparseMatrix<T>, support: &[usize], g: &[T]) -> Coupling {
+fn classify<T: Scalar<Real = f64>>(
+    q: &SparseMatrix<T>,
+    support: &[usize],
+    g: &Image<T>,
+) -> Coupling {
     let reference = CONSTANT_TOLERANCE * column_mass(q, support);
-    let along: T = support.iter().map(|&p| g[p]).sum();
-    if l1(g) <= reference {
+    let along = g.sum_over(support);
+    if g.l1() <= reference {
         Coupling::Free
     } else if along.abs() <= reference {
         Coupling::Orthogonal
     } else {
         Coupling::Oblique
     }
-}
-
-/// `Σ_i |x_i|`.
-fn l1<T: Scalar<Real = f64>>(x: &[T]) -> f64 {
-    x.iter().map(|q| q.abs()).sum()
 }
 
 /// `Σ_{j ∈ S} Σ_i |X_ij|`: the scale of `X 𝟙_S` without cancellation.
@@ -170,14 +222,45 @@ fn column_mass<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, support: &[usize]) ->
         .sum()
 }
 
-/// `X 𝟙_S`.
-fn image_of_indicator<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, support: &[usize]) -> Vec<T> {
-    let mut indicator = vec![T::zero(); x.ncols()];
-    support.iter().for_each(|&p| indicator[p] = T::one());
-    let mut image = vec![T::zero(); x.nrows()];
-    x.mul_vec(&indicator, &mut image)
-        .expect("square operator of the vector's size");
-    image
+/// Sums of sparse columns into a dense scratch, cleared after each sum: a piece's image costs
+/// the entries of its columns, not the size of the mesh.
+struct Accumulator<T> {
+    sums: Vec<T>,
+    touched: Vec<usize>,
+    seen: Vec<bool>,
+}
+
+impl<T: Scalar<Real = f64>> Accumulator<T> {
+    fn new(n: usize) -> Self {
+        Self {
+            sums: vec![T::zero(); n],
+            touched: Vec::new(),
+            seen: vec![false; n],
+        }
+    }
+
+    /// `X 𝟙_S = Σ_{j ∈ S} X e_j` (`X` with the accumulator's number of rows).
+    fn image_of_indicator(&mut self, x: &SparseMatrix<T>, support: &[usize]) -> Image<T> {
+        for &j in support {
+            let (rows, values) = x.col(j);
+            for (&i, &v) in rows.iter().zip(values) {
+                if !self.seen[i] {
+                    self.seen[i] = true;
+                    self.touched.push(i);
+                }
+                self.sums[i] += v;
+            }
+        }
+        self.touched.sort_unstable();
+        let values = self.touched.iter().map(|&i| self.sums[i]).collect();
+        for &i in &self.touched {
+            (self.sums[i], self.seen[i]) = (T::zero(), false);
+        }
+        Image {
+            rows: std::mem::take(&mut self.touched),
+            values,
+        }
+    }
 }
 
 /// The vertices kept in a reduced problem, in mass-scaled coordinates `z = M^{1/2} y`, and the
@@ -239,10 +322,12 @@ impl Reduction {
 
     /// `W c` on the kept vertices: an integrated quantity (a constraint's functional, a term of
     /// a low-rank update) in scaled coordinates.
-    pub fn functional<T: Scalar<Real = f64>>(&self, c: &[T]) -> Vec<T> {
-        (self.kept.iter().zip(&self.weights))
-            .map(|(&p, &w)| c[p].scale(w))
-            .collect()
+    pub fn functional<T: Scalar<Real = f64>>(&self, c: &Image<T>) -> Image<T> {
+        // `kept` increases, so reduced indices increase with the vertices.
+        let (rows, values) = (c.rows.iter().zip(&c.values))
+            .filter_map(|(&p, &v)| self.index[p].map(|r| (r, v.scale(self.weights[r]))))
+            .unzip();
+        Image { rows, values }
     }
 
     /// The full vector `x = W z` (zero at removed vertices) of a scaled reduced one.

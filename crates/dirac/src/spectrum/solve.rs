@@ -7,7 +7,7 @@ use qeig::{
 use qscalar::Scalar;
 use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 
-use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction};
+use super::kernel::{ConstantMode, Coupling, ExactKernel, Image, Reduction};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
@@ -60,17 +60,18 @@ pub(super) struct Reduced<T> {
     reduction: Reduction,
     k: SparseMatrix<T>,
     s: SparseMatrix<T>,
-    constraints: Vec<Vec<T>>,
+    /// One column per constraint (local to its piece: sparse).
+    constraints: SparseMatrix<T>,
     low_rank: Vec<(Vec<T>, f64)>,
 }
 
-impl<T> Reduced<T> {
+impl<T: Scalar> Reduced<T> {
     /// Dimension left for eigenpairs.
     pub fn available(&self) -> usize {
         self.reduction
             .kept
             .len()
-            .saturating_sub(self.constraints.len())
+            .saturating_sub(self.constraints.ncols())
     }
 }
 
@@ -155,20 +156,30 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
         Form::Pinned => Reduction::without(masses, flat.chain(pins)),
         Form::Shifted { .. } | Form::Literal { .. } => Reduction::without(masses, flat),
     };
-    let mut constraints = Vec::new();
+    // The constraints' columns, in CSC arrays.
+    let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
     let mut low_rank = Vec::new();
     for mode in &kernel.constants {
         let g = &mode.image;
         match (form, mode.coupling) {
             (Form::Pinned, Coupling::Free) => {}
             (Form::Shifted { .. } | Form::Literal { .. }, _)
-            | (Form::Pinned, Coupling::Orthogonal) => constraints.push(reduction.functional(g)),
+            | (Form::Pinned, Coupling::Orthogonal) => {
+                let c = reduction.functional(g);
+                row_idx.extend(c.rows);
+                values.extend(c.values);
+                col_ptr.push(row_idx.len());
+            }
             (Form::Pinned, Coupling::Oblique) => {
                 let along = indicator_inner(&mode.vertices, g);
-                low_rank.push((reduction.functional(g), 1.0 / along));
+                let u = reduction.functional(g).to_dense(reduction.kept.len());
+                low_rank.push((u, 1.0 / along));
             }
         }
     }
+    let size = reduction.kept.len();
+    let constraints = SparseMatrix::try_from_csc(size, col_ptr.len() - 1, col_ptr, row_idx, values)
+        .map_err(|e| SpectrumError::Operator(e.into()))?;
     let scaled = |x| reduction.matrix(x).ok_or(SpectrumError::ScaleOutOfRange);
     let (p, q) = (scaled(&m.stiffness)?, scaled(&m.coupling)?);
     let s = match form {
@@ -188,14 +199,17 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
 }
 
 /// `Re(𝟙_S* g)`.
-fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &[T]) -> f64 {
-    support.iter().map(|&p| g[p].re()).sum()
+fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &Image<T>) -> f64 {
+    g.sum_over(support).re()
 }
 
 /// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode
 /// from the pinned one.
 fn project_oblique<T: Scalar<Real = f64>>(mode: &ConstantMode<T>, x: &mut [T]) {
-    let c = vector::inner(&mode.image, x).scale(1.0 / indicator_inner(&mode.vertices, &mode.image));
+    let c = mode
+        .image
+        .inner(x)
+        .scale(1.0 / indicator_inner(&mode.vertices, &mode.image));
     mode.vertices.iter().for_each(|&p| x[p] -= c);
 }
 
@@ -327,7 +341,7 @@ fn restore_constant<T: Scalar<Real = f64>>(
 ) {
     let g = &mode.image;
     let residual = pencil_residual_vector(m, lambda, x);
-    let c = vector::inner(g, &residual).scale(1.0 / (lambda * vector::real_inner(g, g)));
+    let c = g.inner(&residual).scale(1.0 / (lambda * g.norm_squared()));
     mode.vertices.iter().for_each(|&p| x[p] += c);
 }
 

@@ -162,3 +162,25 @@ fn huge_dimensions() {
         Err(SparseError::DimensionMismatch { .. })
     ));
 }
+
+#[test]
+fn dense_columns_of_the_wrong_length_or_not_finite() {
+    let good = vec![q(1.0), q(0.0), q(2.0)];
+    assert_eq!(
+        SparseMatrix::from_dense_columns(3, &[good.clone(), vec![q(1.0); 2]]),
+        Err(SparseError::DimensionMismatch {
+            expected: 3,
+            found: 2,
+            context: "dense column length",
+        })
+    );
+    let mut bad = good.clone();
+    bad[1] = Quat::new(0.0, f64::NAN, 0.0, 0.0);
+    assert_eq!(
+        SparseMatrix::from_dense_columns(3, &[good.clone(), bad]),
+        Err(SparseError::NonFinite { row: 1, col: 1 })
+    );
+    let m = SparseMatrix::from_dense_columns(3, &[good]).unwrap();
+    assert_eq!((m.nrows(), m.ncols(), m.nnz()), (3, 1, 2));
+    assert_eq!(m.col(0).0, &[0, 2]);
+}

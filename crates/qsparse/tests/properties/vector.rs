@@ -8,8 +8,8 @@ use qscalar::Quat;
 use qscalar::strategies::ScalarStrategy;
 use qsparse::strategies::vector;
 use qsparse::vector::{
-    axpy, axpy_real, axpy_two, axpy_two_then_inner_two, blocked_len, from_blocked, inner,
-    inner_two, norm, real_inner, to_blocked,
+    axpy, axpy_real, axpy_two, axpy_two_then_inner_two, blocked_len, from_blocked,
+    gather_from_blocked, inner, inner_two, norm, real_inner, scatter_to_blocked, to_blocked,
 };
 
 const TOL: f64 = 1e-12;
@@ -116,7 +116,57 @@ fn kernels_match_scalar_arithmetic<T: ScalarStrategy>(
     Ok(())
 }
 
+/// Gathering rows from the blocked layout picks the entries of the ordinary vector; scattering
+/// them back (doubled) changes exactly those rows.
+fn gather_and_scatter_address_rows<T: ScalarStrategy>(
+    (x, picks): (Vec<T>, Vec<prop::sample::Index>),
+) -> Result<(), TestCaseError> {
+    let mut rows: Vec<usize> = picks.iter().map(|p| p.index(x.len().max(1))).collect();
+    rows.retain(|&r| r < x.len());
+    rows.sort_unstable();
+    rows.dedup();
+    let mut blocked = vec![T::zero(); blocked_len::<T>(x.len())];
+    to_blocked(&x, &mut blocked);
+    let mut gathered = vec![T::zero(); rows.len()];
+    gather_from_blocked(&blocked, &rows, &mut gathered);
+    for (t, &r) in rows.iter().enumerate() {
+        prop_assert_eq!(gathered[t], x[r]);
+    }
+    let doubled: Vec<T> = gathered.iter().map(|&v| v + v).collect();
+    scatter_to_blocked(&doubled, &rows, &mut blocked);
+    let mut back = vec![T::zero(); x.len()];
+    from_blocked(&blocked, &mut back);
+    for (r, (&new, &old)) in back.iter().zip(&x).enumerate() {
+        let expected = if rows.binary_search(&r).is_ok() {
+            old + old
+        } else {
+            old
+        };
+        prop_assert_eq!(new, expected, "row {}", r);
+    }
+    Ok(())
+}
+
+fn rows_of<T: ScalarStrategy>() -> impl Strategy<Value = (Vec<T>, Vec<prop::sample::Index>)> {
+    (0..41usize).prop_flat_map(|n| {
+        (
+            vector::<T>(n),
+            prop::collection::vec(any::<prop::sample::Index>(), 0..12),
+        )
+    })
+}
+
 proptest! {
+    #[test]
+    fn gather_and_scatter_real(input in rows_of::<f64>()) {
+        gather_and_scatter_address_rows(input)?;
+    }
+
+    #[test]
+    fn gather_and_scatter_quaternion(input in rows_of::<Quat<f64>>()) {
+        gather_and_scatter_address_rows(input)?;
+    }
+
     #[test]
     fn real_kernels(input in inputs::<f64>()) {
         kernels_match_scalar_arithmetic(input)?;
