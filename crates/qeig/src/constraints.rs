@@ -23,20 +23,27 @@ pub(crate) struct Constraints<V> {
     groups: Vec<Group<V>>,
     /// Entries of the longest group's support (the scratch a projection needs).
     longest: usize,
+    /// The dimension of the vectors.
+    dimension: usize,
 }
 
 /// Directions whose supports overlap, restricted to the union of their supports.
 #[derive(Debug)]
 struct Group<V> {
-    /// The entries the group touches, increasing.
+    /// The entries the group touches, increasing (all of them for the constant of a mesh in
+    /// one piece: then an ordinary vector is projected where it is, without a copy).
     rows: Vec<usize>,
     /// Orthonormal directions over `rows`, one after another.
     directions: Vec<V>,
 }
 
-impl<V> Group<V> {
-    fn directions(&self) -> impl Iterator<Item = &[V]> {
-        self.directions.chunks_exact(self.rows.len())
+impl<V: Scalar<Real = f64>> Group<V> {
+    /// `w ← w − Σ yᵢ ⟨yᵢ, w⟩` over the group's rows, `w` ordinary and restricted to them.
+    fn project(&self, w: &mut [V]) {
+        for y in self.directions.chunks_exact(self.rows.len()) {
+            let c = vector::inner(y, w);
+            vector::axpy(w, y, -c);
+        }
     }
 }
 
@@ -80,7 +87,11 @@ impl<V: Scalar<Real = f64>> Constraints<V> {
             .filter_map(|m| orthonormal_group(m.iter().map(|&id| &sparse[id])))
             .collect();
         let longest = groups.iter().map(|g| g.rows.len()).max().unwrap_or(0);
-        Self { groups, longest }
+        Self {
+            groups,
+            longest,
+            dimension,
+        }
     }
 
     /// Number of orthonormal directions.
@@ -108,14 +119,18 @@ impl<V: Scalar<Real = f64>> Constraints<V> {
         if self.groups.is_empty() {
             return;
         }
+        if let [group] = &self.groups[..]
+            && group.rows.len() == self.dimension
+            && vector::blocked_is_ordinary::<V>()
+        {
+            group.project(&mut w[..self.dimension]);
+            return;
+        }
         let mut local = vec![V::zero(); self.longest];
         for group in &self.groups {
             let local = &mut local[..group.rows.len()];
             vector::gather_from_blocked(w, &group.rows, local);
-            for y in group.directions() {
-                let c = vector::inner(y, local);
-                vector::axpy(local, y, -c);
-            }
+            group.project(local);
             vector::scatter_to_blocked(local, &group.rows, w);
         }
     }

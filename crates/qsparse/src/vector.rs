@@ -333,6 +333,12 @@ pub fn blocked_len<T: Scalar<Real = f64>>(n: usize) -> usize {
     }
 }
 
+/// Whether vectors of `T` in the blocked layout ([`blocked_len`]) are stored as ordinary
+/// vectors (every scalar but quaternions on CPUs with AVX2 and FMA).
+pub fn blocked_is_ordinary<T: Scalar<Real = f64>>() -> bool {
+    !quaternion_kernels::<T>()
+}
+
 /// Rows of a block of the blocked layout.
 const BLOCK_ROWS: usize = 4;
 
