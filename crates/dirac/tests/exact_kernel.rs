@@ -297,10 +297,35 @@ fn the_kernel_is_listed_on_request_with_a_mass_orthonormal_basis() {
 fn a_planar_mesh_is_a_vanishing_operator_not_a_crash() {
     let plane = grid(8, 6, 2.0, 1.5).unwrap();
     let n = plane.vertex_count();
-    assert!(matches!(
-        relative_dirac(&plane, 4),
-        Err(SpectrumError::VanishingOperator { vertices }) if vertices == n
-    ));
+    let error = relative_dirac(&plane, 4).unwrap_err();
+    assert!(
+        matches!(error, SpectrumError::VanishingOperator { vertices, components: 1 } if vertices == n),
+        "{error}"
+    );
+    assert!(!error.to_string().contains("--repair"), "{error}");
+    // The same plane with every face on its own (a triangle soup, as unwelded files come):
+    // the error names the pieces and the repair that welds them.
+    let soup = TriMesh::new(
+        (plane.faces().iter())
+            .flat_map(|f| f.map(|v| plane.positions()[v]))
+            .collect(),
+        (0..plane.faces().len())
+            .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+            .collect(),
+    )
+    .unwrap();
+    let error = relative_dirac(&soup, 4).unwrap_err();
+    let faces = plane.faces().len();
+    assert!(
+        matches!(error, SpectrumError::VanishingOperator { components, .. } if components == faces),
+        "{error}"
+    );
+    let message = error.to_string();
+    assert!(
+        message.contains(&format!("{faces} separate flat pieces")),
+        "{message}"
+    );
+    assert!(message.contains("--repair"), "{message}");
     let mut options = SpectrumOptions::new(Operator::RelativeDirac, 4);
     options.include_kernel = true;
     let kernel = spectrum(&plane, &options).unwrap();

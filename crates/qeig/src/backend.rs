@@ -30,7 +30,7 @@ use faer::traits::ComplexField;
 use faer::{Accum, Conj, MatMut, MatRef, Par, Side, c64};
 use qscalar::Scalar;
 use qsparse::embedding::{complex_adjoint_vector, from_complex_adjoint_vector};
-use qsparse::{SparseCholesky, SparseMatrix, vector};
+use qsparse::{SparseCholesky, SparseMatrix, SparseSolveWorkspace, SparseVector, vector};
 
 use crate::error::EmbeddedFactorizationError;
 use crate::{EigError, HermitianOperator};
@@ -53,6 +53,11 @@ pub trait Backend<T: Scalar<Real = f64>> {
     ) -> Result<Self::Operator, EigError<T>>;
     /// The image of a vector of `Tⁿ` in the iteration space.
     fn embed(&self, x: &[T]) -> Vec<Self::Field>;
+    /// [`Backend::embed`] for a sparse vector of `Tⁿ` (through the dense one unless the
+    /// backend keeps sparsity).
+    fn embed_sparse(&self, x: &SparseVector<T>, n: usize) -> SparseVector<Self::Field> {
+        SparseVector::from_dense(&self.embed(&x.to_dense(n)))
+    }
     /// Vectors of `Tⁿ` spanning (over `T`, with the other results) what `y` represents:
     /// the inverse of [`Backend::embed`], and for real `T` in the complex adjoint, the real
     /// and imaginary parts (both are eigenvectors when `y` is one).
@@ -66,8 +71,9 @@ pub trait PencilOperator<V>: HermitianOperator<V> {
     /// `x = C⁻ᴴ y` of eigenvectors `y` of `A` (`xᴴ S x = yᴴ y`).
     fn eigenvectors_in_place(&mut self, ys: &mut [V]);
     /// `C⁻¹ c`: the constraint `cᴴ x = 0` on pencil vectors is orthogonality to this vector
-    /// in the iteration space (`cᴴ x = cᴴ C⁻ᴴ y = (C⁻¹ c)ᴴ y`).
-    fn constraint_direction(&mut self, c: &[V]) -> Vec<V>;
+    /// in the iteration space (`cᴴ x = cᴴ C⁻ᴴ y = (C⁻¹ c)ᴴ y`). Sparse: the constraint of one
+    /// piece of a mesh stays on that piece.
+    fn constraint_direction(&mut self, c: &SparseVector<V>) -> SparseVector<V>;
     /// Replaces `K` by `K − Σ w u uᴴ` over the given `(u, w)` (vectors of the iteration
     /// field, already embedded).
     fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>);
@@ -98,6 +104,16 @@ pub trait Factor<V> {
     fn upper_many(&mut self, x: &mut [V], ncols: usize) {
         let n = x.len() / ncols.max(1);
         x.chunks_exact_mut(n.max(1)).for_each(|c| self.upper(c));
+    }
+    /// `C⁻¹ b` for a sparse `b` of dimension `n`; factors that can touch only what `b`
+    /// reaches override the dense solve.
+    fn lower_sparse(&mut self, b: &SparseVector<V>, n: usize) -> SparseVector<V>
+    where
+        V: Scalar,
+    {
+        let mut x = b.to_dense(n);
+        self.lower(&mut x);
+        SparseVector::from_dense(&x)
     }
     /// Bytes of the stored factor values.
     fn bytes(&self) -> usize;
@@ -218,9 +234,11 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
         self.timed(ys, ncols, false);
     }
 
-    fn constraint_direction(&mut self, c: &[V]) -> Vec<V> {
-        let mut y = c.to_vec();
-        self.timed(&mut y, 1, true);
+    fn constraint_direction(&mut self, c: &SparseVector<V>) -> SparseVector<V> {
+        let t = Instant::now();
+        let y = self.factor.lower_sparse(c, self.dim());
+        self.solve_time += t.elapsed();
+        self.solves += 1;
         y
     }
 
@@ -229,11 +247,13 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
     }
 }
 
-/// The native Cholesky factor with the workspace of its solves.
+/// The native Cholesky factor with the workspaces of its solves.
 #[derive(Debug)]
 pub struct NativeFactor<T> {
     cholesky: SparseCholesky<T>,
     work: Vec<T>,
+    /// Built at the first sparse solve.
+    sparse_work: Option<SparseSolveWorkspace<T>>,
 }
 
 impl<T> NativeFactor<T> {
@@ -241,6 +261,7 @@ impl<T> NativeFactor<T> {
         Self {
             cholesky,
             work: Vec::new(),
+            sparse_work: None,
         }
     }
 }
@@ -268,6 +289,13 @@ impl<T: Scalar<Real = f64>> Factor<T> for NativeFactor<T> {
         self.cholesky
             .solve_upper_many_in_place_with(x, ncols, &mut self.work)
             .expect("vector lengths equal the factor dimension");
+    }
+
+    fn lower_sparse(&mut self, b: &SparseVector<T>, _n: usize) -> SparseVector<T> {
+        let work = (self.sparse_work).get_or_insert_with(|| self.cholesky.sparse_solve_workspace());
+        self.cholesky
+            .solve_lower_sparse(b, work)
+            .expect("rows below the factor dimension")
     }
 
     fn bytes(&self) -> usize {
@@ -451,6 +479,10 @@ impl<T: Scalar<Real = f64>> Backend<T> for Native {
 
     fn embed(&self, x: &[T]) -> Vec<T> {
         x.to_vec()
+    }
+
+    fn embed_sparse(&self, x: &SparseVector<T>, _n: usize) -> SparseVector<T> {
+        x.clone()
     }
 
     fn extract(&self, y: &[T]) -> Vec<Vec<T>> {

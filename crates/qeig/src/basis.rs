@@ -25,7 +25,7 @@ use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use qscalar::Scalar;
-use qsparse::vector;
+use qsparse::{SparseVector, vector};
 
 use crate::constraints::Constraints;
 use crate::memory::{self, BasisTooLarge};
@@ -53,10 +53,10 @@ impl<V: Scalar<Real = f64>> Basis<V> {
     }
 
     /// An empty basis of `dimension`-vectors in the orthogonal complement of `constraints`
-    /// (ordinary vectors, orthonormalised by [`Constraints::new`]).
+    /// (orthonormalised by [`Constraints::new`]).
     pub(crate) fn constrained(
         dimension: usize,
-        constraints: impl IntoIterator<Item = Vec<V>>,
+        constraints: impl IntoIterator<Item = SparseVector<V>>,
     ) -> Self {
         Self {
             n: vector::blocked_len::<V>(dimension),

@@ -15,7 +15,7 @@
 //! over every entry, which is the dense projection.
 
 use qscalar::Scalar;
-use qsparse::vector;
+use qsparse::{SparseVector, vector};
 
 /// Orthonormal directions, grouped by disjoint supports.
 #[derive(Debug, Default)]
@@ -47,34 +47,28 @@ impl<V: Scalar<Real = f64>> Group<V> {
     }
 }
 
-/// A direction as its nonzero entries.
-struct SparseVector<V> {
-    rows: Vec<usize>,
-    values: Vec<V>,
-}
-
 impl<V: Scalar<Real = f64>> Constraints<V> {
-    /// The orthonormalised span of `vectors` (ordinary `dimension`-vectors, in order; a vector
+    /// The orthonormalised span of `vectors` (of dimension `dimension`, in order; a vector
     /// whose component outside the span of the previous ones is below `1e−8` of its norm
     /// adds nothing).
-    pub(crate) fn new(dimension: usize, vectors: impl IntoIterator<Item = Vec<V>>) -> Self {
+    pub(crate) fn new(
+        dimension: usize,
+        vectors: impl IntoIterator<Item = SparseVector<V>>,
+    ) -> Self {
         // Union–find over the vectors: two vectors are joined when they share an entry.
-        let mut sparse = Vec::new();
+        let mut sparse: Vec<SparseVector<V>> = Vec::new();
         let mut parent: Vec<usize> = Vec::new();
         let mut owner = vec![usize::MAX; dimension];
         for v in vectors {
-            assert_eq!(v.len(), dimension, "a constraint vector of the dimension");
             let id = sparse.len();
             parent.push(id);
-            let rows: Vec<usize> = (0..dimension).filter(|&i| v[i] != V::zero()).collect();
-            for &row in &rows {
+            for &row in &v.rows {
                 match owner[row] {
                     usize::MAX => owner[row] = id,
                     other => join(&mut parent, id, other),
                 }
             }
-            let values = rows.iter().map(|&i| v[i]).collect();
-            sparse.push(SparseVector { rows, values });
+            sparse.push(v);
         }
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); sparse.len()];
         for id in 0..sparse.len() {
@@ -230,7 +224,7 @@ mod tests {
             on(&[2, 3, 5], 3.0),
             on(&[0, 1, 2], 0.0), // dependent: adds nothing
         ];
-        let constraints = Constraints::new(n, vectors.clone());
+        let constraints = Constraints::new(n, vectors.iter().map(|v| SparseVector::from_dense(v)));
         assert_eq!(constraints.groups.len(), 2);
         assert_eq!(constraints.count(), 4);
         assert_eq!(constraints.groups[0].rows, vec![0, 1, 2, 3, 5, 6]);

@@ -64,7 +64,7 @@ use std::time::{Duration, Instant};
 use faer::{Mat, MatRef};
 use qscalar::Scalar;
 use qscalar::random::SplitMix64;
-use qsparse::{DenseMatrix, vector};
+use qsparse::{DenseMatrix, SparseVector, vector};
 
 use crate::backend::VECTORS_PER_PASS;
 use crate::basis::Basis;
@@ -1044,7 +1044,7 @@ where
             context: "deflation vector",
         });
     }
-    let basis = Basis::constrained(n, deflation.iter().cloned());
+    let basis = Basis::constrained(n, deflation.iter().map(|d| SparseVector::from_dense(d)));
     let available = n - basis.constraint_count();
     if options.k == 0 || options.k > available {
         return Err(EigError::InvalidCount {

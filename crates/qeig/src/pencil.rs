@@ -19,7 +19,7 @@ use std::borrow::Cow;
 use std::time::Instant;
 
 use qscalar::Scalar;
-use qsparse::{DenseMatrix, SparseMatrix, threads, vector};
+use qsparse::{DenseMatrix, SparseMatrix, SparseVector, threads, vector};
 
 use crate::backend::{MatVec, VECTORS_PER_PASS};
 use crate::basis::Basis;
@@ -274,15 +274,14 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             .flat_map(|j| {
                 (0..T::REAL_DIM).map(move |u| {
                     let e: T = unit(u);
-                    let mut ce = vec![T::zero(); n];
                     let (rows, values) = constraints.col(j);
-                    for (&i, &x) in rows.iter().zip(values) {
-                        ce[i] = x * e;
+                    SparseVector {
+                        rows: rows.to_vec(),
+                        values: values.iter().map(|&x| x * e).collect(),
                     }
-                    ce
                 })
             })
-            .map(|ce| op.constraint_direction(&backend.embed(&ce)));
+            .map(|ce| op.constraint_direction(&backend.embed_sparse(&ce, n)));
         let basis = Basis::constrained(dim, directions);
 
         let outcome = run(&mut op, options, options.k * B::COPIES, basis, progress)?;

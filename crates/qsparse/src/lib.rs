@@ -18,6 +18,7 @@ mod error;
 mod ops;
 mod product;
 mod simd;
+mod sparse_vector;
 #[cfg(feature = "proptest-support")]
 pub mod strategies;
 pub mod threads;
@@ -25,10 +26,12 @@ mod triplet;
 pub mod vector;
 
 pub use cholesky::{
-    CholeskyStats, FillOrdering, SolveThreads, SparseCholesky, SymbolicCholesky, ordering,
+    CholeskyStats, FillOrdering, SolveThreads, SparseCholesky, SparseSolveWorkspace,
+    SymbolicCholesky, ordering,
 };
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
 pub use error::{CholeskyError, SparseError, SymbolicStage};
 pub use ops::HermitianDefect;
+pub use sparse_vector::SparseVector;
 pub use triplet::TripletMatrix;

@@ -14,7 +14,7 @@
 //!   satisfies `(Q 𝟙_S)* x = 0`, because `𝟙_S* P x = 0 = λ 𝟙_S* Q x`.
 
 use qscalar::Scalar;
-use qsparse::SparseMatrix;
+use qsparse::{SparseMatrix, SparseVector};
 
 use crate::TriMesh;
 use crate::disjoint_sets::DisjointSets;
@@ -46,63 +46,9 @@ pub(super) struct ConstantMode<T> {
     pub vertices: Vec<usize>,
     /// How the other eigenvectors relate to it.
     pub coupling: Coupling,
-    /// `g = Q 𝟙_S`.
-    pub image: Image<T>,
-}
-
-/// A vector by its entries in a few rows, such as `g = Q 𝟙_S` in the rows `Q` couples to the
-/// piece: held in full, the images of a mesh of thousands of pieces (a triangle soup) would
-/// take gigabytes.
-#[derive(Debug, Clone)]
-pub(super) struct Image<T> {
-    /// Rows of the entries, increasing.
-    pub rows: Vec<usize>,
-    /// The entries at those rows.
-    pub values: Vec<T>,
-}
-
-impl<T: Scalar<Real = f64>> Image<T> {
-    /// `Σ_i |g_i|`.
-    fn l1(&self) -> f64 {
-        self.values.iter().map(|q| q.abs()).sum()
-    }
-
-    /// `𝟙_S* g = Σ_{p ∈ S} g_p` (`support` increasing).
-    pub fn sum_over(&self, support: &[usize]) -> T {
-        let mut sum = T::zero();
-        let mut position = 0;
-        for (&row, &value) in self.rows.iter().zip(&self.values) {
-            // Both lists increase: walk them together.
-            while position < support.len() && support[position] < row {
-                position += 1;
-            }
-            if support.get(position) == Some(&row) {
-                sum += value;
-            }
-        }
-        sum
-    }
-
-    /// `⟨g, x⟩ = Σ_i conj(g_i) x_i`.
-    pub fn inner(&self, x: &[T]) -> T {
-        (self.rows.iter().zip(&self.values))
-            .map(|(&i, &g)| g.conj() * x[i])
-            .sum()
-    }
-
-    /// `⟨g, g⟩`.
-    pub fn norm_squared(&self) -> f64 {
-        self.values.iter().map(|g| g.abs2()).sum()
-    }
-
-    /// The full vector of length `n`.
-    pub fn to_dense(&self, n: usize) -> Vec<T> {
-        let mut x = vec![T::zero(); n];
-        for (&i, &v) in self.rows.iter().zip(&self.values) {
-            x[i] = v;
-        }
-        x
-    }
+    /// `g = Q 𝟙_S`, by its entries in the rows `Q` couples to the piece: held in full, the
+    /// images of a mesh of thousands of pieces (a triangle soup) would take gigabytes.
+    pub image: SparseVector<T>,
 }
 
 /// The kernel of a pencil that is known exactly: flat vertices and constant modes.
@@ -151,7 +97,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         let mut constants = Vec::new();
         for vertices in members.into_iter().filter(|piece| !piece.is_empty()) {
             let residue = accumulator.image_of_indicator(stiffness, &vertices);
-            if residue.l1() > CONSTANT_TOLERANCE * column_mass(stiffness, &vertices) {
+            if l1(&residue) > CONSTANT_TOLERANCE * column_mass(stiffness, &vertices) {
                 continue;
             }
             let image = accumulator.image_of_indicator(coupling, &vertices);
@@ -201,17 +147,38 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
 fn classify<T: Scalar<Real = f64>>(
     q: &SparseMatrix<T>,
     support: &[usize],
-    g: &Image<T>,
+    g: &SparseVector<T>,
 ) -> Coupling {
     let reference = CONSTANT_TOLERANCE * column_mass(q, support);
-    let along = g.sum_over(support);
-    if g.l1() <= reference {
+    let along = sum_over(g, support);
+    if l1(g) <= reference {
         Coupling::Free
     } else if along.abs() <= reference {
         Coupling::Orthogonal
     } else {
         Coupling::Oblique
     }
+}
+
+/// `Σ_i |g_i|`.
+fn l1<T: Scalar<Real = f64>>(g: &SparseVector<T>) -> f64 {
+    g.values.iter().map(|q| q.abs()).sum()
+}
+
+/// `𝟙_S* g = Σ_{p ∈ S} g_p` (`support` increasing).
+pub(super) fn sum_over<T: Scalar<Real = f64>>(g: &SparseVector<T>, support: &[usize]) -> T {
+    let mut sum = T::zero();
+    let mut position = 0;
+    for (&row, &value) in g.rows.iter().zip(&g.values) {
+        // Both lists increase: walk them together.
+        while position < support.len() && support[position] < row {
+            position += 1;
+        }
+        if support.get(position) == Some(&row) {
+            sum += value;
+        }
+    }
+    sum
 }
 
 /// `Σ_{j ∈ S} Σ_i |X_ij|`: the scale of `X 𝟙_S` without cancellation.
@@ -240,7 +207,7 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
     }
 
     /// `X 𝟙_S = Σ_{j ∈ S} X e_j` (`X` with the accumulator's number of rows).
-    fn image_of_indicator(&mut self, x: &SparseMatrix<T>, support: &[usize]) -> Image<T> {
+    fn image_of_indicator(&mut self, x: &SparseMatrix<T>, support: &[usize]) -> SparseVector<T> {
         for &j in support {
             let (rows, values) = x.col(j);
             for (&i, &v) in rows.iter().zip(values) {
@@ -256,7 +223,7 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
         for &i in &self.touched {
             (self.sums[i], self.seen[i]) = (T::zero(), false);
         }
-        Image {
+        SparseVector {
             rows: std::mem::take(&mut self.touched),
             values,
         }
@@ -322,12 +289,12 @@ impl Reduction {
 
     /// `W c` on the kept vertices: an integrated quantity (a constraint's functional, a term of
     /// a low-rank update) in scaled coordinates.
-    pub fn functional<T: Scalar<Real = f64>>(&self, c: &Image<T>) -> Image<T> {
+    pub fn functional<T: Scalar<Real = f64>>(&self, c: &SparseVector<T>) -> SparseVector<T> {
         // `kept` increases, so reduced indices increase with the vertices.
         let (rows, values) = (c.rows.iter().zip(&c.values))
             .filter_map(|(&p, &v)| self.index[p].map(|r| (r, v.scale(self.weights[r]))))
             .unzip();
-        Image { rows, values }
+        SparseVector { rows, values }
     }
 
     /// The full vector `x = W z` (zero at removed vertices) of a scaled reduced one.

@@ -693,17 +693,27 @@ pub enum SpectrumError {
          unit-area) or remove its degenerate faces"
     )]
     ScaleOutOfRange,
-    /// The operator vanishes identically on the mesh: its Gauss map is constant (the mesh is
-    /// planar, or every face is flat), so every function is in its kernel.
+    /// The operator vanishes identically on the mesh: its Gauss map is constant on every
+    /// component (each is planar, or every face is flat), so every function is in its kernel.
     #[error(
         "the relative Dirac operator vanishes on this mesh: its Gauss map is constant (every \
          face is flat), so all {vertices} vertices are in its kernel and it has no nonzero \
-         eigenvalue; list the kernel with --include-kernel, or use --operator family:T \
-         (0 < T < 1), which sees the flat geometry through the Laplacian"
+         eigenvalue; {}list the kernel with --include-kernel, or use --operator family:T \
+         (0 < T < 1), which sees the flat geometry through the Laplacian",
+        if *components > 1 {
+            format!(
+                "the mesh is {components} separate flat pieces (an unwelded triangle soup, if \
+                 there is one piece per face): weld its coincident vertices with --repair, or "
+            )
+        } else {
+            String::new()
+        }
     )]
     VanishingOperator {
         /// Vertices (all in the kernel).
         vertices: usize,
+        /// Connected components of the mesh (all flat).
+        components: usize,
     },
     /// The extrinsic Dirac operator on a mesh with a planar component, where its kernel holds
     /// the linear functions of the plane besides the constants.
@@ -1009,7 +1019,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
     let mut pairs = Pairs::none();
     if wanted > 0 {
         let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
-        check_available(&kernel, wanted, reduced.available(), masses.len())?;
+        check_available(&kernel, wanted, reduced.available(), mesh)?;
         pairs = solve::solve(
             &reduced,
             spec.form,
@@ -1094,14 +1104,18 @@ fn check_available<T: Scalar<Real = f64>>(
     kernel: &ExactKernel<T>,
     wanted: usize,
     available: usize,
-    vertices: usize,
+    mesh: &TriMesh,
 ) -> Result<(), SpectrumError> {
     if wanted <= available {
         return Ok(());
     }
     let summary = kernel.summary();
+    let vertices = mesh.vertex_count();
     Err(if available == 0 && summary.flat_vertices == vertices {
-        SpectrumError::VanishingOperator { vertices }
+        SpectrumError::VanishingOperator {
+            vertices,
+            components: mesh.topology().components.len(),
+        }
     } else {
         SpectrumError::TooFewNonzero {
             wanted,

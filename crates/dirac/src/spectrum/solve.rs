@@ -5,9 +5,9 @@ use qeig::{
     ComplexAdjoint, EigError, Eigen, LanczosOptions, Native, Pencil, RealBlock, Statistics, Which,
 };
 use qscalar::Scalar;
-use qsparse::{CholeskyError, SparseMatrix, threads, vector};
+use qsparse::{CholeskyError, SparseMatrix, SparseVector, threads, vector};
 
-use super::kernel::{ConstantMode, Coupling, ExactKernel, Image, Reduction};
+use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction, sum_over};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
@@ -199,8 +199,8 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
 }
 
 /// `Re(𝟙_S* g)`.
-fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &Image<T>) -> f64 {
-    g.sum_over(support).re()
+fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &SparseVector<T>) -> f64 {
+    sum_over(g, support).re()
 }
 
 /// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode

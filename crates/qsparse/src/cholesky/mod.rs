@@ -32,6 +32,7 @@ use faer::sparse::linalg::cholesky::{
 };
 use qscalar::Scalar;
 
+use crate::SparseVector;
 use crate::vector::{axpy, axpy_two, inner, inner_two, prefetch_head};
 use crate::{CholeskyError, SparseMatrix, SymbolicStage};
 use dense::{GemmWorkspace, factor_supernode, gemm_adjoint};
@@ -105,6 +106,26 @@ pub struct SymbolicCholesky {
     /// The supernodes split between two threads for the solves, when that pays.
     split: Option<TwoWaySplit>,
 }
+
+/// The supernode-structure maps and scratch of [`SparseCholesky::solve_lower_sparse`], built
+/// once per factor (`O(n)`) so that each sparse solve costs only what it touches.
+#[derive(Debug, Clone)]
+pub struct SparseSolveWorkspace<T> {
+    /// `inverse_perm[old] = new`.
+    inverse_perm: Vec<usize>,
+    /// The supernode of each column (factor numbering).
+    supernode_of: Vec<usize>,
+    /// The parent of each supernode in the elimination tree, or [`NO_PARENT`].
+    parent: Vec<usize>,
+    /// Dense scratch, zero between solves.
+    y: Vec<T>,
+    /// Supernodes reached by the current solve (all `false` between solves), and their list.
+    reached: Vec<bool>,
+    order: Vec<usize>,
+}
+
+/// The parent of a root supernode.
+const NO_PARENT: usize = usize::MAX;
 
 /// Size and shape figures of a factorisation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -655,6 +676,95 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
             self.two_threads(crate::threads::SPLIT_REALS),
         );
         Ok(())
+    }
+
+    /// The workspace of [`Self::solve_lower_sparse`] for this factor's structure.
+    pub fn sparse_solve_workspace(&self) -> SparseSolveWorkspace<T> {
+        let sym = &*self.symbolic;
+        let (n, count) = (sym.n, sym.supernodes());
+        let mut inverse_perm = vec![0; n];
+        for (new, &old) in sym.perm.iter().enumerate() {
+            inverse_perm[old] = new;
+        }
+        let mut supernode_of = vec![0; n];
+        for s in 0..count {
+            supernode_of[sym.supernode_begin[s]..sym.supernode_begin[s + 1]].fill(s);
+        }
+        // The parent of a supernode holds its first off-diagonal row.
+        let parent = (0..count)
+            .map(|s| (sym.supernode(s).2.first()).map_or(NO_PARENT, |&row| supernode_of[row]))
+            .collect();
+        SparseSolveWorkspace {
+            inverse_perm,
+            supernode_of,
+            parent,
+            y: vec![T::zero(); n],
+            reached: vec![false; count],
+            order: Vec::new(),
+        }
+    }
+
+    /// `C⁻¹ b = L⁻¹ P b` for a sparse `b` (rows in the numbering of `A`; the result, as from
+    /// [`Self::solve_lower_in_place`], in the factor's numbering). Only the supernodes on the
+    /// paths from `b`'s rows to their roots of the elimination tree are touched: on a
+    /// block-diagonal `A` (a mesh in pieces), a right-hand side on one piece costs that piece,
+    /// not the dimension. `work` comes from [`Self::sparse_solve_workspace`] of this factor.
+    pub fn solve_lower_sparse(
+        &self,
+        b: &SparseVector<T>,
+        work: &mut SparseSolveWorkspace<T>,
+    ) -> Result<SparseVector<T>, CholeskyError> {
+        let sym = &*self.symbolic;
+        if work.y.len() != sym.n || work.reached.len() != sym.supernodes() {
+            return Err(CholeskyError::RhsDimension {
+                expected: sym.n,
+                found: work.y.len(),
+            });
+        }
+        if let Some(&row) = b.rows.iter().find(|&&row| row >= sym.n) {
+            return Err(CholeskyError::RhsDimension {
+                expected: sym.n,
+                found: row + 1,
+            });
+        }
+        for (&old, &v) in b.rows.iter().zip(&b.values) {
+            let new = work.inverse_perm[old];
+            work.y[new] += v;
+            let mut s = work.supernode_of[new];
+            while s != NO_PARENT && !work.reached[s] {
+                work.reached[s] = true;
+                work.order.push(s);
+                s = work.parent[s];
+            }
+        }
+        // A parent's columns follow its children's: ascending order is an elimination order.
+        work.order.sort_unstable();
+        let mut g = Vec::new();
+        for &s in &work.order {
+            let (begin, w, rows) = sym.supernode(s);
+            let m = w + rows.len();
+            let block = &self.values[sym.value_ptr[s]..sym.value_ptr[s] + m * w];
+            g.clear();
+            g.extend_from_slice(&work.y[begin..begin + w]);
+            g.resize(m, T::zero());
+            eliminate_forward(block, m, w, &mut g);
+            work.y[begin..begin + w].copy_from_slice(&g[..w]);
+            for (&row, &v) in rows.iter().zip(&g[w..]) {
+                work.y[row] += v;
+            }
+        }
+        let mut result = SparseVector::default();
+        for s in work.order.drain(..) {
+            work.reached[s] = false;
+            let (begin, w, _) = sym.supernode(s);
+            for column in begin..begin + w {
+                result.rows.push(column);
+                result
+                    .values
+                    .push(std::mem::replace(&mut work.y[column], T::zero()));
+            }
+        }
+        Ok(result)
     }
 
     /// The split for two threads, if the work is to use it ([`SolveThreads`]; `threshold` is
