@@ -489,7 +489,8 @@ fn copies_of(mesh: &TriMesh, copies: usize) -> TriMesh {
 
 /// A mesh of many components carries one constant per component in its kernel, constrained
 /// away locally (each constraint touches its own component only, on the real path of Laplace
-/// and the quaternionic one of the squared operator) or pinned (relative Dirac). The spectrum
+/// and the quaternionic one of the squared operator), pinned (relative Dirac) or pinned with
+/// a low-rank correction per component (the blended family). The spectrum
 /// of 40 copies of a cube is that of one cube, every eigenvalue 40 times (for relative Dirac:
 /// the dense reference of one cube), and every eigenvector is mass-orthogonal to the constant
 /// of every copy.
@@ -505,6 +506,7 @@ fn many_components_repeat_the_spectrum_of_one() {
         Operator::RelativeDirac,
         Operator::Laplace,
         Operator::Squared,
+        Operator::Family { tau: 0.5 },
     ] {
         let options = |k| SpectrumOptions {
             include_kernel: false,

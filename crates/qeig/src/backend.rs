@@ -74,9 +74,9 @@ pub trait PencilOperator<V>: HermitianOperator<V> {
     /// in the iteration space (`cᴴ x = cᴴ C⁻ᴴ y = (C⁻¹ c)ᴴ y`). Sparse: the constraint of one
     /// piece of a mesh stays on that piece.
     fn constraint_direction(&mut self, c: &SparseVector<V>) -> SparseVector<V>;
-    /// Replaces `K` by `K − Σ w u uᴴ` over the given `(u, w)` (vectors of the iteration
-    /// field, already embedded).
-    fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>);
+    /// Replaces `K` by `K − Σ w u uᴴ` over the given `(u, w)` (sparse vectors of the
+    /// iteration field, already embedded).
+    fn subtract_low_rank(&mut self, terms: Vec<(SparseVector<V>, f64)>);
 }
 
 /// Vectors that share one read of the factor in the many-vector half-solves
@@ -130,7 +130,7 @@ pub trait MatVec<V> {
 pub struct FactoredPencil<V, F, M> {
     factor: F,
     k: M,
-    low_rank: Vec<(Vec<V>, f64)>,
+    low_rank: Vec<(SparseVector<V>, f64)>,
     s: M,
     work: Vec<V>,
     solves: usize,
@@ -154,7 +154,7 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> FactoredPencil<V, F, M> 
     fn k_mul(&self, x: &[V], y: &mut [V]) {
         self.k.mul(x, y);
         for (u, w) in &self.low_rank {
-            vector::axpy(y, u, vector::inner(u, x) * V::from_real(-w));
+            u.add_to(y, u.inner(x) * V::from_real(-w));
         }
     }
 
@@ -242,7 +242,7 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
         y
     }
 
-    fn subtract_low_rank(&mut self, terms: Vec<(Vec<V>, f64)>) {
+    fn subtract_low_rank(&mut self, terms: Vec<(SparseVector<V>, f64)>) {
         self.low_rank = terms;
     }
 }

@@ -54,7 +54,7 @@ pub struct Pencil<'a, T: Clone> {
     /// Constraint vectors `c` (columns): solutions satisfy `cᴴ x = 0`.
     constraints: SparseMatrix<T>,
     /// `(u, a w)`: the terms of `a (K − Σ w u uᴴ)`.
-    low_rank: Vec<(Vec<T>, f64)>,
+    low_rank: Vec<(SparseVector<T>, f64)>,
 }
 
 /// The powers of two `a` and `b` by which the pencil solves `(a K) x = μ' (b S) x` instead of
@@ -181,18 +181,23 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
 
     /// Replaces `K` by the Hermitian `K − Σ w u uᴴ` over the given `(u, w)` (`u uᴴ` acting on
     /// the quaternionic span of `u`: `x ↦ u (uᴴ x)`), without forming it: for example the
-    /// compression `PᴴKP` of `K` by an oblique projection `P = I − 𝟙 gᴴ / (gᴴ𝟙)`.
-    pub fn with_low_rank_update(mut self, terms: Vec<(Vec<T>, f64)>) -> Result<Self, EigError<T>> {
+    /// compression `PᴴKP` of `K` by an oblique projection `P = I − 𝟙 gᴴ / (gᴴ𝟙)`. The
+    /// vectors are sparse (the constant of one piece of a mesh touches that piece: a dense
+    /// term per piece would cost `n` per piece and application).
+    pub fn with_low_rank_update(
+        mut self,
+        terms: Vec<(SparseVector<T>, f64)>,
+    ) -> Result<Self, EigError<T>> {
         let n = self.dim();
         for (u, w) in &terms {
-            if u.len() != n {
+            if let Some(&row) = u.rows.iter().find(|&&row| row >= n) {
                 return Err(EigError::DimensionMismatch {
                     expected: n,
-                    found: u.len(),
-                    context: "low-rank update vector",
+                    found: row + 1,
+                    context: "low-rank update vector (a row beyond the dimension)",
                 });
             }
-            if u.iter().any(|v| !v.is_finite()) || !w.is_finite() {
+            if u.values.iter().any(|v| !v.is_finite()) || !w.is_finite() {
                 return Err(EigError::NonFinite("low-rank update"));
             }
         }
@@ -207,7 +212,7 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let mut y = vec![T::zero(); x.len()];
         self.k.mul(x, &mut y);
         for (u, w) in &self.low_rank {
-            vector::axpy(&mut y, u, vector::inner(u, x) * T::from_real(-w));
+            u.add_to(&mut y, u.inner(x) * T::from_real(-w));
         }
         y
     }
@@ -249,16 +254,10 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         // the REAL_DIM units give each distinct term REAL_DIM / COPIES times.
         op.subtract_low_rank(
             (self.low_rank.iter())
-                .flat_map(|(u, w)| {
-                    (0..T::REAL_DIM).map(move |c| {
-                        let e: T = unit(c);
-                        let ue: Vec<T> = u.iter().map(|&x| x * e).collect();
-                        (ue, *w)
-                    })
-                })
+                .flat_map(|(u, w)| (0..T::REAL_DIM).map(move |c| (u.times(unit(c)), *w)))
                 .map(|(ue, w)| {
                     (
-                        backend.embed(&ue),
+                        backend.embed_sparse(&ue, n),
                         w * B::COPIES as f64 / T::REAL_DIM as f64,
                     )
                 })

@@ -6,7 +6,7 @@ mod common;
 use common::{Rng, columns, dense_truth, distance_to_span, random_hermitian, random_hpd, s_inner};
 use qeig::{ComplexAdjoint, EigError, LanczosOptions, Native, Pencil, RealBlock, Which};
 use qscalar::{Quat, Scalar};
-use qsparse::{SparseMatrix, TripletMatrix};
+use qsparse::{SparseMatrix, SparseVector, TripletMatrix};
 
 type Q = Quat<f64>;
 
@@ -223,6 +223,22 @@ fn bad_input_is_a_typed_error() {
     assert!(matches!(
         p.clone().with_constraints(SparseMatrix::identity(3)),
         Err(EigError::DimensionMismatch { .. })
+    ));
+    let beyond = SparseVector {
+        rows: vec![20],
+        values: vec![Q::from_real(1.0)],
+    };
+    assert!(matches!(
+        p.clone().with_low_rank_update(vec![(beyond, 1.0)]),
+        Err(EigError::DimensionMismatch { .. })
+    ));
+    let not_finite = SparseVector {
+        rows: vec![3],
+        values: vec![Q::from_real(f64::NAN)],
+    };
+    assert!(matches!(
+        p.clone().with_low_rank_update(vec![(not_finite, 1.0)]),
+        Err(EigError::NonFinite(_))
     ));
     // S indefinite: the factorisation error of each backend.
     let indefinite = SparseMatrix::from_diagonal(&[Q::from_real(1.0), Q::from_real(-1.0)]);

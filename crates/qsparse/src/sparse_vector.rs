@@ -39,6 +39,21 @@ impl<T: Scalar> SparseVector<T> {
             .sum()
     }
 
+    /// `y ← y + self c` (coefficient on the right) on a full vector `y`.
+    pub fn add_to(&self, y: &mut [T], c: T) {
+        for (&i, &v) in self.rows.iter().zip(&self.values) {
+            y[i] += v * c;
+        }
+    }
+
+    /// `self c` (coefficient on the right).
+    pub fn times(&self, c: T) -> Self {
+        Self {
+            rows: self.rows.clone(),
+            values: self.values.iter().map(|&v| v * c).collect(),
+        }
+    }
+
     /// `Σᵢ |selfᵢ|²`.
     pub fn norm_squared(&self) -> T::Real {
         self.values.iter().map(|v| v.abs2()).sum()

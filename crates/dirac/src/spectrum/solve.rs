@@ -62,7 +62,7 @@ pub(super) struct Reduced<T> {
     s: SparseMatrix<T>,
     /// One column per constraint (local to its piece: sparse).
     constraints: SparseMatrix<T>,
-    low_rank: Vec<(Vec<T>, f64)>,
+    low_rank: Vec<(SparseVector<T>, f64)>,
 }
 
 impl<T: Scalar> Reduced<T> {
@@ -172,8 +172,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
             }
             (Form::Pinned, Coupling::Oblique) => {
                 let along = indicator_inner(&mode.vertices, g);
-                let u = reduction.functional(g).to_dense(reduction.kept.len());
-                low_rank.push((u, 1.0 / along));
+                low_rank.push((reduction.functional(g), 1.0 / along));
             }
         }
     }
