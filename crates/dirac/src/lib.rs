@@ -39,7 +39,6 @@ pub mod anisotropic;
 pub mod clustering;
 pub mod curvature;
 pub mod descriptors;
-mod disjoint_sets;
 pub mod generators;
 pub mod geometry;
 pub mod io;

@@ -5,9 +5,9 @@
 //! several connected components are allowed; [`TriMesh::topology`] reports them.
 
 use qscalar::Quat;
+use qsparse::DisjointSets;
 use thiserror::Error;
 
-use crate::disjoint_sets::DisjointSets;
 use crate::geometry::{corner_cotangent, cross, norm, scale, sub};
 
 /// Why a mesh was rejected. Each variant names the offending element; vertex and face indices

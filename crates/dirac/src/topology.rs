@@ -4,9 +4,9 @@
 use std::fmt;
 use std::str::FromStr;
 
+use qsparse::DisjointSets;
 use thiserror::Error;
 
-use crate::disjoint_sets::DisjointSets;
 use crate::mesh::boundary_of;
 use crate::{Edge, TriMesh};
 

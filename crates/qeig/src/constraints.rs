@@ -15,7 +15,7 @@
 //! over every entry, which is the dense projection.
 
 use qscalar::Scalar;
-use qsparse::{SparseVector, vector};
+use qsparse::{DisjointSets, SparseVector, vector};
 
 /// Orthonormal directions, grouped by disjoint supports.
 #[derive(Debug, Default)]
@@ -55,29 +55,31 @@ impl<V: Scalar<Real = f64>> Constraints<V> {
         dimension: usize,
         vectors: impl IntoIterator<Item = SparseVector<V>>,
     ) -> Self {
-        // Union–find over the vectors: two vectors are joined when they share an entry.
-        let mut sparse: Vec<SparseVector<V>> = Vec::new();
-        let mut parent: Vec<usize> = Vec::new();
+        // Two vectors are in one group when they share an entry.
+        let sparse: Vec<SparseVector<V>> = vectors.into_iter().collect();
+        let mut sets = DisjointSets::new(sparse.len());
         let mut owner = vec![usize::MAX; dimension];
-        for v in vectors {
-            let id = sparse.len();
-            parent.push(id);
+        for (id, v) in sparse.iter().enumerate() {
             for &row in &v.rows {
                 match owner[row] {
                     usize::MAX => owner[row] = id,
-                    other => join(&mut parent, id, other),
+                    other => sets.union(id, other),
                 }
             }
-            sparse.push(v);
         }
-        let mut members: Vec<Vec<usize>> = vec![Vec::new(); sparse.len()];
+        // Groups in the order of their first vector, each vector's in order.
+        let mut group_of_root = vec![usize::MAX; sparse.len()];
+        let mut members: Vec<Vec<usize>> = Vec::new();
         for id in 0..sparse.len() {
-            let root = find(&mut parent, id);
-            members[root].push(id);
+            let root = sets.find(id);
+            if group_of_root[root] == usize::MAX {
+                group_of_root[root] = members.len();
+                members.push(Vec::new());
+            }
+            members[group_of_root[root]].push(id);
         }
         let groups: Vec<Group<V>> = members
             .iter()
-            .filter(|m| !m.is_empty())
             .filter_map(|m| orthonormal_group(m.iter().map(|&id| &sparse[id])))
             .collect();
         let longest = groups.iter().map(|g| g.rows.len()).max().unwrap_or(0);
@@ -128,21 +130,6 @@ impl<V: Scalar<Real = f64>> Constraints<V> {
             vector::scatter_to_blocked(local, &group.rows, w);
         }
     }
-}
-
-/// The root of `id`'s set, halving the path on the way.
-fn find(parent: &mut [usize], mut id: usize) -> usize {
-    while parent[id] != id {
-        parent[id] = parent[parent[id]];
-        id = parent[id];
-    }
-    id
-}
-
-/// Joins the sets of `a` and `b` under the smaller root (the earliest vector).
-fn join(parent: &mut [usize], a: usize, b: usize) {
-    let (a, b) = (find(parent, a), find(parent, b));
-    parent[a.max(b)] = a.min(b);
 }
 
 /// The members, in order, restricted to the union of their supports and orthonormalised (two

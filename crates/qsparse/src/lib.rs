@@ -13,6 +13,7 @@
 mod cholesky;
 mod csc;
 mod dense;
+mod disjoint_sets;
 pub mod embedding;
 mod error;
 mod ops;
@@ -31,6 +32,7 @@ pub use cholesky::{
 };
 pub use csc::SparseMatrix;
 pub use dense::DenseMatrix;
+pub use disjoint_sets::DisjointSets;
 pub use error::{CholeskyError, SparseError, SymbolicStage};
 pub use ops::HermitianDefect;
 pub use sparse_vector::SparseVector;

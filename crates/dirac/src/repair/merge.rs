@@ -2,7 +2,8 @@
 
 use std::collections::HashMap;
 
-use crate::disjoint_sets::DisjointSets;
+use qsparse::DisjointSets;
+
 use crate::geometry::bounding_box;
 
 /// The Euclidean distance `|a − b|`, by `hypot` so that it neither underflows nor overflows

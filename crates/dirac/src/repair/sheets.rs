@@ -3,7 +3,8 @@
 
 use std::collections::VecDeque;
 
-use crate::disjoint_sets::DisjointSets;
+use qsparse::DisjointSets;
+
 use crate::mesh::{EdgeUse, edge_uses, same_edge};
 
 /// The pairs of edge uses whose faces are glued along their shared edge, for faces `merged`

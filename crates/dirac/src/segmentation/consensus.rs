@@ -38,12 +38,12 @@
 use std::cmp::Reverse;
 
 use qscalar::random::SplitMix64;
+use qsparse::DisjointSets;
 use thiserror::Error;
 
 use crate::TriMesh;
 use crate::clustering::{ClusteringError, Initialisation, KMeansOptions, Points, kmeans};
 use crate::descriptors::DescriptorTable;
-use crate::disjoint_sets::DisjointSets;
 use crate::geometry::face_areas;
 use crate::segmentation::seg_file::relabel_by_first_appearance;
 

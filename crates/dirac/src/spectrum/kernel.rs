@@ -14,10 +14,9 @@
 //!   satisfies `(Q 𝟙_S)* x = 0`, because `𝟙_S* P x = 0 = λ 𝟙_S* Q x`.
 
 use qscalar::Scalar;
-use qsparse::{SparseMatrix, SparseVector};
+use qsparse::{DisjointSets, SparseMatrix, SparseVector};
 
 use crate::TriMesh;
-use crate::disjoint_sets::DisjointSets;
 use crate::geometry::{norm, sub};
 
 /// Relative size `Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ_{j∈S} Σ_i |P_ij|` below which a piece's constant is in

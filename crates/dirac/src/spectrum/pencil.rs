@@ -5,14 +5,13 @@
 use std::sync::Arc;
 
 use qscalar::{Quat, Scalar};
-use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
+use qsparse::{DisjointSets, SparseCholesky, SparseMatrix, SymbolicCholesky};
 
 use super::kernel::{Reduction, flat_faces, vanishing_faces};
 use super::{Operator, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
-use crate::disjoint_sets::DisjointSets;
 use crate::geometry::{
     barycentric_masses, cotan_laplacian, cross, norm, normalize, sub, vertex_normals,
 };

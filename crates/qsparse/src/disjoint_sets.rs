@@ -1,15 +1,16 @@
-//! Disjoint sets (union–find) over `0..n`, used to find fans around vertices and components.
+//! Disjoint sets (union–find) over `0..n`: fans around vertices and components of a mesh,
+//! groups of constraint directions that share entries.
 
 /// A union–find forest with path halving and union by size.
 #[derive(Debug, Clone)]
-pub(crate) struct DisjointSets {
+pub struct DisjointSets {
     parent: Vec<usize>,
     size: Vec<usize>,
 }
 
 impl DisjointSets {
     /// `n` singleton sets.
-    pub(crate) fn new(n: usize) -> Self {
+    pub fn new(n: usize) -> Self {
         Self {
             parent: (0..n).collect(),
             size: vec![1; n],
@@ -17,7 +18,7 @@ impl DisjointSets {
     }
 
     /// The representative of the set containing `x`.
-    pub(crate) fn find(&mut self, mut x: usize) -> usize {
+    pub fn find(&mut self, mut x: usize) -> usize {
         while self.parent[x] != x {
             self.parent[x] = self.parent[self.parent[x]];
             x = self.parent[x];
@@ -26,7 +27,7 @@ impl DisjointSets {
     }
 
     /// Merges the sets containing `a` and `b`.
-    pub(crate) fn union(&mut self, a: usize, b: usize) {
+    pub fn union(&mut self, a: usize, b: usize) {
         let (mut a, mut b) = (self.find(a), self.find(b));
         if a == b {
             return;
