@@ -35,6 +35,28 @@ def test_laplace_eigenvalues_equal_eigsh_on_the_laplacian(bumpy_sphere):
     np.testing.assert_allclose(result.eigenvalues[1:], np.sort(expected)[1:], rtol=1e-9)
 
 
+def test_laplace_on_a_mesh_in_many_pieces_is_the_union_of_the_pieces_spectra():
+    """Twenty separate spheres, each with its own noise and size: one constant per piece in the
+    kernel, constrained away piece by piece; the nonzero eigenvalues are those of the pieces
+    (LAPACK on each piece's dense pencil), merged."""
+    rng = np.random.default_rng(5)
+    V0, F0 = icosphere(2)
+    pieces = [
+        (V0 * (1 + 0.1 * c) * (1 + 0.03 * rng.uniform(-1, 1, (len(V0), 1))), F0) for c in range(20)
+    ]
+    V = np.vstack([v + [3.0 * c, 0, 0] for c, (v, _) in enumerate(pieces)])
+    F = np.vstack([f + c * len(V0) for c, (_, f) in enumerate(pieces)])
+    expected = []
+    for v, f in pieces:
+        L, M = ds.laplacian(v, f)
+        expected.extend(scipy.linalg.eigh(L.toarray(), M.toarray(), eigvals_only=True)[1:])
+    expected = np.sort(expected)
+    result = ds.spectrum(V, F, k=20 + 15, operator="laplace")
+    assert result.kernel_dimension == 20
+    np.testing.assert_array_equal(result.eigenvalues[:20], 0.0)
+    np.testing.assert_allclose(result.eigenvalues[20:], expected[:15], rtol=1e-9)
+
+
 def pinned_reciprocal_eigenvalues(P, Q, k: int) -> np.ndarray:
     """The k smallest |λ| of P x = λ Q x with P ⪰ 0 whose kernel is the constants, Q 𝟙 = 0
     (closed surfaces): with one vertex pinned P is definite and the λ ≠ 0 are those of the
