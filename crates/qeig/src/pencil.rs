@@ -190,6 +190,13 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
     ) -> Result<Self, EigError<T>> {
         let n = self.dim();
         for (u, w) in &terms {
+            if u.values.len() != u.rows.len() {
+                return Err(EigError::DimensionMismatch {
+                    expected: u.rows.len(),
+                    found: u.values.len(),
+                    context: "low-rank update vector (values against rows)",
+                });
+            }
             if let Some(&row) = u.rows.iter().find(|&&row| row >= n) {
                 return Err(EigError::DimensionMismatch {
                     expected: n,

@@ -232,6 +232,14 @@ fn bad_input_is_a_typed_error() {
         p.clone().with_low_rank_update(vec![(beyond, 1.0)]),
         Err(EigError::DimensionMismatch { .. })
     ));
+    let malformed = SparseVector {
+        rows: vec![1, 2],
+        values: vec![Q::from_real(1.0)],
+    };
+    assert!(matches!(
+        p.clone().with_low_rank_update(vec![(malformed, 1.0)]),
+        Err(EigError::DimensionMismatch { .. })
+    ));
     let not_finite = SparseVector {
         rows: vec![3],
         values: vec![Q::from_real(f64::NAN)],

@@ -721,6 +721,12 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
                 found: work.y.len(),
             });
         }
+        if b.values.len() != b.rows.len() {
+            return Err(CholeskyError::RhsDimension {
+                expected: b.rows.len(),
+                found: b.values.len(),
+            });
+        }
         if let Some(&row) = b.rows.iter().find(|&&row| row >= sym.n) {
             return Err(CholeskyError::RhsDimension {
                 expected: sym.n,

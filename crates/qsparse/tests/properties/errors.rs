@@ -1,8 +1,11 @@
 //! Every `SparseError` variant is produced by some bad input, as a typed error and never a
 //! panic.
 
-use qscalar::Quat;
-use qsparse::{DenseMatrix, SparseError, SparseMatrix, TripletMatrix};
+use qscalar::{Quat, Scalar};
+use qsparse::{
+    CholeskyError, DenseMatrix, SparseCholesky, SparseError, SparseMatrix, SparseVector,
+    TripletMatrix,
+};
 
 type Q = Quat<f64>;
 
@@ -183,4 +186,47 @@ fn dense_columns_of_the_wrong_length_or_not_finite() {
     let m = SparseMatrix::from_dense_columns(3, &[good]).unwrap();
     assert_eq!((m.nrows(), m.ncols(), m.nnz()), (3, 1, 2));
     assert_eq!(m.col(0).0, &[0, 2]);
+}
+
+#[test]
+fn sparse_right_hand_sides_out_of_range_or_malformed() {
+    let a = SparseMatrix::from_diagonal(&[q(2.0), q(3.0), q(4.0)]);
+    let chol = SparseCholesky::factorize(&a).unwrap();
+    let mut work = chol.sparse_solve_workspace();
+    let beyond = SparseVector {
+        rows: vec![3],
+        values: vec![q(1.0)],
+    };
+    assert_eq!(
+        chol.solve_lower_sparse(&beyond, &mut work),
+        Err(CholeskyError::RhsDimension {
+            expected: 3,
+            found: 4
+        })
+    );
+    let malformed = SparseVector {
+        rows: vec![0, 1],
+        values: vec![q(1.0)],
+    };
+    assert!(matches!(
+        chol.solve_lower_sparse(&malformed, &mut work),
+        Err(CholeskyError::RhsDimension { .. })
+    ));
+    let other = SparseCholesky::factorize(&SparseMatrix::<Q>::identity(5)).unwrap();
+    let good = SparseVector {
+        rows: vec![1],
+        values: vec![q(9.0)],
+    };
+    assert!(matches!(
+        chol.solve_lower_sparse(&good, &mut other.sparse_solve_workspace()),
+        Err(CholeskyError::RhsDimension { .. })
+    ));
+    // C⁻¹ (9 e₁) is 9/√3 at the place of row 1 in the factor's numbering, as the dense solve
+    // says; the workspace is clean after the errors.
+    let x = chol.solve_lower_sparse(&good, &mut work).unwrap();
+    let mut dense = good.to_dense(3);
+    chol.solve_lower_in_place(&mut dense).unwrap();
+    assert_eq!(x.to_dense(3), dense);
+    assert_eq!(x.rows.len(), 1);
+    assert!((x.values[0].re() - 9.0 / 3f64.sqrt()).abs() < 1e-14);
 }
