@@ -299,10 +299,16 @@ fn a_planar_mesh_is_a_vanishing_operator_not_a_crash() {
     let n = plane.vertex_count();
     let error = relative_dirac(&plane, 4).unwrap_err();
     assert!(
-        matches!(error, SpectrumError::VanishingOperator { vertices, components: 1 } if vertices == n),
+        matches!(error, SpectrumError::VanishingOperator { vertices, components: 1, .. } if vertices == n),
         "{error}"
     );
     assert!(!error.to_string().contains("--repair"), "{error}");
+    assert!(
+        error
+            .to_string()
+            .starts_with("the relative-dirac operator vanishes"),
+        "{error}"
+    );
     // The same plane with every face on its own (a triangle soup, as unwelded files come):
     // the error names the pieces and the repair that welds them.
     let soup = TriMesh::new(

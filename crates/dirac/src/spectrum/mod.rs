@@ -696,7 +696,7 @@ pub enum SpectrumError {
     /// The operator vanishes identically on the mesh: its Gauss map is constant on every
     /// component (each is planar, or every face is flat), so every function is in its kernel.
     #[error(
-        "the relative Dirac operator vanishes on this mesh: its Gauss map is constant (every \
+        "the {operator} operator vanishes on this mesh: the mesh's Gauss map is constant (every \
          face is flat), so all {vertices} vertices are in its kernel and it has no nonzero \
          eigenvalue; {}list the kernel with --include-kernel, or use --operator family:T \
          (0 < T < 1), which sees the flat geometry through the Laplacian",
@@ -710,6 +710,8 @@ pub enum SpectrumError {
         }
     )]
     VanishingOperator {
+        /// The operator asked for (relative Dirac, its square, the family at `τ = 1`).
+        operator: Operator,
         /// Vertices (all in the kernel).
         vertices: usize,
         /// Connected components of the mesh (all flat).
@@ -1019,7 +1021,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
     let mut pairs = Pairs::none();
     if wanted > 0 {
         let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
-        check_available(&kernel, wanted, reduced.available(), mesh)?;
+        check_available(&kernel, wanted, reduced.available(), mesh, options.operator)?;
         pairs = solve::solve(
             &reduced,
             spec.form,
@@ -1105,6 +1107,7 @@ fn check_available<T: Scalar<Real = f64>>(
     wanted: usize,
     available: usize,
     mesh: &TriMesh,
+    operator: Operator,
 ) -> Result<(), SpectrumError> {
     if wanted <= available {
         return Ok(());
@@ -1113,6 +1116,7 @@ fn check_available<T: Scalar<Real = f64>>(
     let vertices = mesh.vertex_count();
     Err(if available == 0 && summary.flat_vertices == vertices {
         SpectrumError::VanishingOperator {
+            operator,
             vertices,
             components: mesh.topology().components.len(),
         }
