@@ -1,8 +1,8 @@
 //! Fuzz target: two small arbitrary quaternion matrices `K` and `S` (n ≤ 8, occasionally not
 //! square or of different sizes), Hermitian-ised or not, optionally diagonally dominant, with
 //! NaN, ∞, huge, slightly perturbed and moderate entries → `qeig::Pencil::new`, optional
-//! arbitrary constraint vectors (through `SparseMatrix::from_dense_columns`), then `solve` with the native backend, arbitrary `k`, `which`
-//! and (small) iteration limits. Every step must return `Ok` or the typed `EigError` the input
+//! arbitrary constraint vectors (through `SparseMatrix::from_dense_columns`), then `solve`
+//! with the native backend, arbitrary `k`, `which` and (small) iteration limits. Every step must return `Ok` or the typed `EigError` the input
 //! calls for, never panic: `NotSquare` only for a non-square operand, `NonFinite` only for a
 //! non-finite value, `NotHermitian` only (and always) for an operand that is not Hermitian
 //! beyond `Pencil::HERMITIAN_TOLERANCE` of its largest entry, naming an entry that differs

@@ -161,14 +161,22 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> FactoredPencil<V, F, M> 
     /// `X ← C⁻¹ X` (`lower`) or `X ← C⁻ᴴ X` for the `ncols` columns of `x`, timed and counted
     /// (one solve per column).
     fn timed(&mut self, x: &mut [V], ncols: usize, lower: bool) {
+        self.counted(ncols, |factor| {
+            if lower {
+                factor.lower_many(x, ncols);
+            } else {
+                factor.upper_many(x, ncols);
+            }
+        });
+    }
+
+    /// `solve(factor)`, timed and counted as `solves` solves.
+    fn counted<R>(&mut self, solves: usize, solve: impl FnOnce(&mut F) -> R) -> R {
         let t = Instant::now();
-        if lower {
-            self.factor.lower_many(x, ncols);
-        } else {
-            self.factor.upper_many(x, ncols);
-        }
+        let result = solve(&mut self.factor);
         self.solve_time += t.elapsed();
-        self.solves += ncols;
+        self.solves += solves;
+        result
     }
 }
 
@@ -235,11 +243,8 @@ impl<V: Scalar<Real = f64>, F: Factor<V>, M: MatVec<V>> PencilOperator<V>
     }
 
     fn constraint_direction(&mut self, c: &SparseVector<V>) -> SparseVector<V> {
-        let t = Instant::now();
-        let y = self.factor.lower_sparse(c, self.dim());
-        self.solve_time += t.elapsed();
-        self.solves += 1;
-        y
+        let n = self.dim();
+        self.counted(1, |factor| factor.lower_sparse(c, n))
     }
 
     fn subtract_low_rank(&mut self, terms: Vec<(SparseVector<V>, f64)>) {

@@ -253,7 +253,8 @@ impl<V: Scalar<Real = f64>> Basis<V> {
 
     /// Orthogonalises `w` against the constraints and columns `0..m`, with a second pass when
     /// the first one removed more than `1 − 1/√2` of the norm ("twice is enough",
-    /// Daniel–Gragg–Kaufman–Stewart). `coef[..m]` receives the total coefficients. Returns `‖w‖` before and after.
+    /// Daniel–Gragg–Kaufman–Stewart). `coef[..m]` receives the total coefficients. Returns
+    /// `‖w‖` before and after.
     pub(crate) fn orthogonalize(&self, m: usize, w: &mut [V], coef: &mut Vec<V>) -> (f64, f64) {
         coef.clear();
         coef.resize(m, V::zero());

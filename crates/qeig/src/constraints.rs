@@ -40,10 +40,16 @@ struct Group<V> {
 impl<V: Scalar<Real = f64>> Group<V> {
     /// `w ← w − Σ yᵢ ⟨yᵢ, w⟩` over the group's rows, `w` ordinary and restricted to them.
     fn project(&self, w: &mut [V]) {
-        for y in self.directions.chunks_exact(self.rows.len()) {
-            let c = vector::inner(y, w);
-            vector::axpy(w, y, -c);
-        }
+        project_out(&self.directions, w);
+    }
+}
+
+/// `w ← w − Σ yᵢ ⟨yᵢ, w⟩` for the orthonormal `yᵢ` stored one after another in `directions`
+/// (each of `w`'s length), by modified Gram–Schmidt.
+fn project_out<V: Scalar<Real = f64>>(directions: &[V], w: &mut [V]) {
+    for y in directions.chunks_exact(w.len()) {
+        let c = vector::inner(y, w);
+        vector::axpy(w, y, -c);
     }
 }
 
@@ -160,10 +166,7 @@ fn orthonormal_group<'a, V: Scalar<Real = f64>>(
         }
         let before = vector::norm(&dense);
         for _ in 0..2 {
-            for y in directions.chunks_exact(rows.len()) {
-                let c = vector::inner(y, &dense);
-                vector::axpy(&mut dense, y, -c);
-            }
+            project_out(&directions, &mut dense);
         }
         let after = vector::norm(&dense);
         if after.is_finite() && after > 1e-8 * before && after > 0.0 {

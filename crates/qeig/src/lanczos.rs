@@ -12,9 +12,10 @@
 //! * **Expansion.** `w = A qⱼ`; the three-term recurrence `w −= qⱼ αⱼ + qⱼ₋₁ βⱼ₋₁` is followed
 //!   by a full Gram–Schmidt pass (modified, two columns at a time, each basis vector read
 //!   from memory once) against the locked vectors and the whole active basis, after the
-//!   projection against the deflation vectors, both repeated once when it removed more than `1 − 1/√2` of the norm (coefficients on
-//!   the right). If `βⱼ` vanishes (an invariant subspace) a fresh random vector orthogonal to
-//!   everything is appended with coupling `0`, which keeps the projected matrix exact.
+//!   projection against the deflation vectors, both repeated once when they removed more than
+//!   `1 − 1/√2` of the norm (coefficients on the right). If `βⱼ` vanishes (an invariant
+//!   subspace) a fresh random vector orthogonal to everything is appended with coupling `0`,
+//!   which keeps the projected matrix exact.
 //! * **Thick restart.** When the basis is full (or earlier, at a *check point* after a step,
 //!   when the round may be finished) the projected matrix is diagonalised. A check point needs
 //!   only the Ritz values and their estimates: the kept block is reduced to tridiagonal form

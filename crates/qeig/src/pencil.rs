@@ -278,14 +278,12 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let constraints = &self.constraints;
         let directions = (0..constraints.ncols())
             .flat_map(|j| {
-                (0..T::REAL_DIM).map(move |u| {
-                    let e: T = unit(u);
-                    let (rows, values) = constraints.col(j);
-                    SparseVector {
-                        rows: rows.to_vec(),
-                        values: values.iter().map(|&x| x * e).collect(),
-                    }
-                })
+                let (rows, values) = constraints.col(j);
+                let c = SparseVector {
+                    rows: rows.to_vec(),
+                    values: values.to_vec(),
+                };
+                (0..T::REAL_DIM).map(move |u| c.times(unit(u)))
             })
             .map(|ce| op.constraint_direction(&backend.embed_sparse(&ce, n)));
         let basis = Basis::constrained(dim, directions);

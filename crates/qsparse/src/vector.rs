@@ -355,9 +355,8 @@ pub fn to_blocked<T: Scalar<Real = f64>>(x: &[T], out: &mut [T]) {
     let (x, out) = (T::as_reals(x), T::as_reals_mut(out));
     out.fill(0.0);
     for (r, q) in x.chunks_exact(4).enumerate() {
-        let (block, row) = (r / BLOCK_ROWS, r % BLOCK_ROWS);
         for (component, &value) in q.iter().enumerate() {
-            out[16 * block + BLOCK_ROWS * component + row] = value;
+            out[quaternion_blocked_real(r, component)] = value;
         }
     }
 }
@@ -378,9 +377,8 @@ pub fn from_blocked<T: Scalar<Real = f64>>(x: &[T], out: &mut [T]) {
     }
     let (x, out) = (T::as_reals(x), T::as_reals_mut(out));
     for (r, q) in out.chunks_exact_mut(4).enumerate() {
-        let (block, row) = (r / BLOCK_ROWS, r % BLOCK_ROWS);
         for (component, value) in q.iter_mut().enumerate() {
-            *value = x[16 * block + BLOCK_ROWS * component + row];
+            *value = x[quaternion_blocked_real(r, component)];
         }
     }
 }
@@ -390,10 +388,17 @@ pub fn from_blocked<T: Scalar<Real = f64>>(x: &[T], out: &mut [T]) {
 #[inline]
 fn blocked_real<T: Scalar<Real = f64>>(row: usize, component: usize) -> usize {
     if quaternion_kernels::<T>() {
-        16 * (row / BLOCK_ROWS) + BLOCK_ROWS * component + row % BLOCK_ROWS
+        quaternion_blocked_real(row, component)
     } else {
         T::REAL_DIM * row + component
     }
+}
+
+/// [`blocked_real`] for quaternions with the quaternion kernels: four rows per block, component
+/// after component.
+#[inline]
+fn quaternion_blocked_real(row: usize, component: usize) -> usize {
+    16 * (row / BLOCK_ROWS) + BLOCK_ROWS * component + row % BLOCK_ROWS
 }
 
 /// `out[t] ← x[rows[t]]`: rows of a vector in the blocked layout ([`blocked_len`]) as an

@@ -115,17 +115,14 @@ pub struct SparseSolveWorkspace<T> {
     inverse_perm: Vec<usize>,
     /// The supernode of each column (factor numbering).
     supernode_of: Vec<usize>,
-    /// The parent of each supernode in the elimination tree, or [`NO_PARENT`].
-    parent: Vec<usize>,
+    /// The parent of each supernode in the elimination tree (`None` for a root).
+    parent: Vec<Option<usize>>,
     /// Dense scratch, zero between solves.
     y: Vec<T>,
     /// Supernodes reached by the current solve (all `false` between solves), and their list.
     reached: Vec<bool>,
     order: Vec<usize>,
 }
-
-/// The parent of a root supernode.
-const NO_PARENT: usize = usize::MAX;
 
 /// Size and shape figures of a factorisation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -424,22 +421,33 @@ fn factor_flops(supernodes: &Supernodes) -> f64 {
         .sum()
 }
 
+/// The supernode of each column and each supernode's parent in the elimination tree: the
+/// supernode holding its first off-diagonal row (`None` for a root).
+fn supernode_tree(
+    begin: &[usize],
+    pattern_ptr: &[usize],
+    pattern: &[usize],
+) -> (Vec<usize>, Vec<Option<usize>>) {
+    let count = begin.len() - 1;
+    let mut supernode_of = vec![0usize; begin[count]];
+    for s in 0..count {
+        supernode_of[begin[s]..begin[s + 1]].fill(s);
+    }
+    let parent = (0..count)
+        .map(|s| {
+            (pattern_ptr[s] < pattern_ptr[s + 1]).then(|| supernode_of[pattern[pattern_ptr[s]]])
+        })
+        .collect();
+    (supernode_of, parent)
+}
+
 /// Renumbers the supernodes for two threads (module [`partition`]) when the elimination tree
 /// splits well; returns the renumbered structure and the split.
 fn split_supernodes(supernodes: Supernodes) -> (Supernodes, Option<TwoWaySplit>) {
     let (perm, _, begin, pattern_ptr, pattern) = &supernodes;
     let count = begin.len() - 1;
     let n = perm.len();
-    let mut supernode_of = vec![0usize; n];
-    for s in 0..count {
-        supernode_of[begin[s]..begin[s + 1]].fill(s);
-    }
-    // The parent of a supernode holds its first off-diagonal row.
-    let parent: Vec<Option<usize>> = (0..count)
-        .map(|s| {
-            (pattern_ptr[s] < pattern_ptr[s + 1]).then(|| supernode_of[pattern[pattern_ptr[s]]])
-        })
-        .collect();
+    let (_, parent) = supernode_tree(begin, pattern_ptr, pattern);
     let work: Vec<f64> = (0..count)
         .map(|s| {
             let w = begin[s + 1] - begin[s];
@@ -686,14 +694,8 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         for (new, &old) in sym.perm.iter().enumerate() {
             inverse_perm[old] = new;
         }
-        let mut supernode_of = vec![0; n];
-        for s in 0..count {
-            supernode_of[sym.supernode_begin[s]..sym.supernode_begin[s + 1]].fill(s);
-        }
-        // The parent of a supernode holds its first off-diagonal row.
-        let parent = (0..count)
-            .map(|s| (sym.supernode(s).2.first()).map_or(NO_PARENT, |&row| supernode_of[row]))
-            .collect();
+        let (supernode_of, parent) =
+            supernode_tree(&sym.supernode_begin, &sym.pattern_ptr, &sym.pattern);
         SparseSolveWorkspace {
             inverse_perm,
             supernode_of,
@@ -736,11 +738,11 @@ impl<T: Scalar<Real = f64>> SparseCholesky<T> {
         for (&old, &v) in b.rows.iter().zip(&b.values) {
             let new = work.inverse_perm[old];
             work.y[new] += v;
-            let mut s = work.supernode_of[new];
-            while s != NO_PARENT && !work.reached[s] {
+            let mut next = Some(work.supernode_of[new]);
+            while let Some(s) = next.filter(|&s| !work.reached[s]) {
                 work.reached[s] = true;
                 work.order.push(s);
-                s = work.parent[s];
+                next = work.parent[s];
             }
         }
         // A parent's columns follow its children's: ascending order is an elimination order.
