@@ -165,3 +165,37 @@ fn a_nearly_singular_developable_mesh_is_not_told_to_raise_the_flat_tolerance() 
     let family = SpectrumOptions::new(Operator::Family { tau: 0.5 }, 6);
     assert!(spectrum(&mesh, &family).is_ok());
 }
+
+/// The literal family's shift is found by bisecting the exponent between `ε` and Gershgorin's
+/// shift. A well of height `5·10⁻³²²` on a mesh whose coordinates reach `4·10¹⁷` makes `ε`
+/// underflow to zero, and the bisection's geometric mean stayed at zero forever. Found by the
+/// `spectrum` fuzz target as a timeout; the call must return, here within seconds.
+#[test]
+fn the_literal_family_returns_when_its_regularization_underflows() {
+    let positions = vec![
+        [-0.5, -0.5, 0.0],
+        [0.5, 1.59752e17, 4.28808e17],
+        [4.28808e17, 4.28808e17, 0.0],
+        [4.28808e17, 4.28808e17, 4.28808e17],
+    ];
+    let mesh = TriMesh::new(positions, vec![[0, 1, 3], [0, 3, 2]]).unwrap();
+    let mut options = SpectrumOptions::new(Operator::FamilyLiteral { tau: 1.0 }, 1);
+    options.well = Some(PotentialWell {
+        center: None,
+        radius: 4.115482555109136e-107,
+        steepness: 0.0,
+        height: 5.04e-322,
+    });
+    options.seed = 750448400297870899;
+    let (sender, receiver) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let values = spectrum(&mesh, &options).map(|s| s.eigenvalues);
+        let _ = sender.send(values.map_err(|e| e.to_string()));
+    });
+    let values = receiver
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("spectrum did not return within 20 s");
+    if let Ok(values) = values {
+        assert!(values.iter().all(|v| v.is_finite()), "{values:?}");
+    }
+}

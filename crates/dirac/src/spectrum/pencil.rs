@@ -439,12 +439,18 @@ fn definite_shift(stiffness: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
             SparseCholesky::factorize_with_symbolic(Arc::clone(&symbolic), &a).is_ok()
         })
     };
-    let (mut refused, mut accepting) = (regularization(stiffness, masses, None), certain);
+    // `ε` underflows to zero when the operator's scale is below `10³⁰⁰ ·` the least normal
+    // number; the bisection needs a positive lower end.
+    let lowest = regularization(stiffness, masses, None).max(f64::MIN_POSITIVE);
+    let (mut refused, mut accepting) = (lowest, certain);
     if refused >= accepting || accepted(refused) {
         return refused.min(accepting);
     }
+    // Each step halves `log(accepting / refused)`, at most 2¹¹ over the normal numbers: the
+    // geometric mean taken as `√r · √a` neither underflows nor overflows, so it lies strictly
+    // between the ends.
     while accepting > 2.0 * refused {
-        let middle = (refused * accepting).sqrt();
+        let middle = refused.sqrt() * accepting.sqrt();
         if accepted(middle) {
             accepting = middle;
         } else {
