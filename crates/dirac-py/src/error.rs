@@ -192,7 +192,7 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
         SpectrumError::ScaleOutOfRange | SpectrumError::ReferenceConnectivity(_) => Kind::Mesh,
         SpectrumError::VanishingOperator { .. }
         | SpectrumError::TooFewNonzero { .. }
-        | SpectrumError::PlanarExtrinsicDirac { .. } => Kind::Kernel,
+        | SpectrumError::ParallelFaces { .. } => Kind::Kernel,
         SpectrumError::Factorization(_) => Kind::Singular,
         SpectrumError::NotConverged { .. } => Kind::NotConverged,
         _ => Kind::Solver,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import dirac_spectra as ds
-from conftest import torus
+from conftest import grid, torus
 
 
 def rotation(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -46,3 +46,17 @@ def test_errors_are_typed():
         ds.spectrum(V, F, k=4, operator="laplace", relative_to=V)
     with pytest.raises(ds.MeshError):
         ds.spectrum(V, F, k=4, relative_to=V[:-1])
+
+
+def test_a_planar_reference_is_a_kernel_error_for_relative_dirac():
+    # Relative to its own flattening, D_{f,B} annihilates the linear functions of B's plane
+    # besides the constants: the pinned solver does not remove that kernel and says so; the
+    # family blends in the Laplacian of f and is solved.
+    W, F = grid(6, 5)
+    V = W.copy()
+    V[:, 2] = 0.3 * np.sin(3 * W[:, 0]) * np.cos(2 * W[:, 1])
+    with pytest.raises(ds.KernelError, match="reference surface") as error:
+        ds.spectrum(V, F, k=4, relative_to=W)
+    assert 'operator="family", tau=T' in str(error.value)
+    blended = ds.spectrum(V, F, k=4, operator="family", tau=0.5, relative_to=W)
+    assert blended.converged.all() and len(blended.eigenvalues) == 4

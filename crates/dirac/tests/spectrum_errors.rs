@@ -1,14 +1,15 @@
 //! What `spectrum` returns for options or meshes it cannot work with: typed errors naming the
 //! bad value, never a panic.
 
-use dirac::generators::{grid, icosphere};
-use dirac::operators::extrinsic_dirac;
+use dirac::generators::{cylinder, grid, icosphere};
+use dirac::operators::{extrinsic_dirac, relative_dirac};
 use dirac::spectrum::{
-    Normalization, Operator, Parameter, SpectrumError, SpectrumOptions, spectrum,
+    Normalization, Operator, Parameter, SpectrumError, SpectrumOptions, relative_spectrum, spectrum,
 };
 use dirac::well::{PotentialWell, WellError};
 use dirac::{MeshError, TriMesh};
 use qscalar::{Quat, Scalar};
+use qsparse::SparseMatrix;
 
 #[test]
 fn counts_outside_one_to_vertex_count_are_rejected() {
@@ -106,38 +107,124 @@ fn a_strongly_indefinite_literal_family_is_an_error_that_names_the_blended_one()
     }
 }
 
-/// On a planar piece `D_f` annihilates the linear functions `a f` (`a` a unit vector of the
-/// plane) besides the constants: checked here on a tilted grid with `D_f` itself. The solver
-/// does not remove that kernel, so the extrinsic Dirac spectrum of a planar mesh is a typed
-/// error naming a vertex of the planar component (it used to end with no converged pair and
-/// the advice to raise the tolerance), while a gently bent copy is solved.
+/// `|D u f| / (|D| |u f|)` for the linear function `u f`: zero when every face is parallel to
+/// `u` (`df(X) u df(Y) = df(Y) u df(X)` for three vectors of one plane).
+fn relative_image_of_linear_function(
+    d: &SparseMatrix<Quat<f64>>,
+    f: &[[f64; 3]],
+    u: [f64; 3],
+) -> f64 {
+    let linear: Vec<Quat<f64>> = f
+        .iter()
+        .map(|&p| Quat::from_vector(u) * Quat::from_vector(p))
+        .collect();
+    let mut image = vec![Quat::from_real(0.0); d.nrows()];
+    d.mul_vec(&linear, &mut image).unwrap();
+    let size = |v: &[Quat<f64>]| v.iter().map(|q| q.abs()).fold(0.0, f64::max);
+    let operator = d.values().iter().map(|q| q.abs()).fold(0.0, f64::max);
+    size(&image) / (operator * size(&linear))
+}
+
+/// A planar mesh and an open tube of straight rulings (a prism): every face is parallel to a
+/// direction `u` (of the plane; the axis), so `D_f` annihilates `u f` besides the constants, a
+/// kernel the pinned pencil does not remove. The error names a vertex and the direction; a
+/// bent grid and the tube with caps, where no direction is parallel to every face, are solved.
 #[test]
-fn the_extrinsic_dirac_operator_of_a_planar_mesh_is_an_error_that_names_a_vertex() {
+fn the_extrinsic_dirac_operator_of_a_plane_or_prism_is_an_error_that_names_the_direction() {
     let rotation = Quat::new(0.8, 0.2, -0.4, 0.4);
     let rotation = rotation.scale(1.0 / rotation.abs());
     let plane = grid(6, 5, 2.0, 1.5).unwrap().rotated(rotation).unwrap();
-    let d = extrinsic_dirac(&plane).unwrap();
-    let along = rotation * Quat::from_vector([1.0, 0.0, 0.0]) * rotation.conj();
-    let linear: Vec<Quat<f64>> = (plane.positions().iter())
-        .map(|&p| along * Quat::from_vector(p))
-        .collect();
-    let mut image = vec![Quat::from_real(0.0); plane.face_count()];
-    d.mul_vec(&linear, &mut image).unwrap();
-    let largest = image.iter().map(|q| q.abs()).fold(0.0, f64::max);
-    assert!(largest < 1e-12, "|D_f (a f)| reaches {largest:e}");
+    let along = rotation.rotate_vector([1.0, 0.0, 0.0]);
+    let tube = cylinder(6, 5, 2.0).unwrap();
+    for (mesh, u) in [(&plane, along), (&tube, [0.0, 0.0, 1.0])] {
+        let d = extrinsic_dirac(mesh).unwrap();
+        let residue = relative_image_of_linear_function(&d, mesh.positions(), u);
+        assert!(residue < 1e-14, "|D_f (u f)| / |D_f| |u f| = {residue:e}");
+        // A direction not parallel to every face leaves an image.
+        let across = relative_image_of_linear_function(&d, mesh.positions(), [0.6, 0.0, 0.8]);
+        assert!(across > 1e-3, "{across:e}");
+    }
 
     let options = SpectrumOptions::new(Operator::ExtrinsicDirac, 4);
-    match spectrum(&plane, &options) {
-        Err(error @ SpectrumError::PlanarExtrinsicDirac { vertex: 0 }) => {
-            assert!(error.to_string().contains("laplace"), "{error}");
+    for (mesh, normal) in [(&plane, None), (&tube, Some([0.0, 0.0, 1.0]))] {
+        match spectrum(mesh, &options) {
+            Err(
+                error @ SpectrumError::ParallelFaces {
+                    reference: false,
+                    vertex: 0,
+                    direction,
+                    ..
+                },
+            ) => {
+                let plane_normal = rotation.rotate_vector([0.0, 0.0, 1.0]);
+                let off_plane: f64 = (0..3).map(|i| direction[i] * plane_normal[i]).sum();
+                match normal {
+                    Some(axis) => assert_eq!(direction, axis),
+                    None => assert!(off_plane.abs() < 1e-12, "{direction:?}"),
+                }
+                let message = error.to_string();
+                assert!(
+                    message.contains("family:T") && message.contains("vertex 0"),
+                    "{message}"
+                );
+            }
+            other => panic!("{other:?}"),
         }
-        other => panic!("{other:?}"),
     }
     let bent = grid(6, 5, 2.0, 1.5)
         .unwrap()
         .map_positions(|[x, y, _]| [x, y, 0.2 * x * x - 0.1 * x * y])
         .unwrap();
     assert!(spectrum(&bent, &options).is_ok());
+    assert!(spectrum(&closed_tube(), &options).is_ok());
+}
+
+/// A hexagonal prism with both ends closed by a fan to a centre vertex.
+fn closed_tube() -> TriMesh {
+    let tube = cylinder(6, 5, 2.0).unwrap();
+    let mut positions = tube.positions().to_vec();
+    let mut faces = tube.faces().to_vec();
+    let (bottom, top) = (positions.len(), positions.len() + 1);
+    positions.extend([[0.0, 0.0, 0.0], [0.0, 0.0, 2.0]]);
+    for i in 0..6 {
+        let next = (i + 1) % 6;
+        faces.push([bottom, next, i]);
+        faces.push([top, 24 + i, 24 + next]);
+    }
+    TriMesh::new(positions, faces).unwrap()
+}
+
+/// Relative to a planar reference `B`, `D_{f,B}` annihilates `u B` (`u` in the plane) besides
+/// the constants: the relative Dirac operator and the family at `τ = 1` (pinned) are an error
+/// that names the reference; the family at `τ = 1/2`, whose Laplacian part does not vanish on
+/// `u B`, and the square `D*D` (shifted, where `u B` is an ordinary eigenvector of eigenvalue
+/// zero) are solved.
+#[test]
+fn a_planar_reference_surface_is_an_error_for_the_pinned_relative_operators() {
+    let flat = grid(6, 5, 2.0, 1.5).unwrap();
+    let bumped = flat
+        .map_positions(|[x, y, _]| [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()])
+        .unwrap();
+    let d = relative_dirac(&bumped, flat.positions()).unwrap();
+    let residue = relative_image_of_linear_function(&d, flat.positions(), [1.0, 0.0, 0.0]);
+    assert!(residue < 1e-14, "|D_(f,B) (u B)| / |D| |u B| = {residue:e}");
+
+    for operator in [Operator::RelativeDirac, Operator::Family { tau: 1.0 }] {
+        match relative_spectrum(&bumped, &flat, &SpectrumOptions::new(operator, 4)) {
+            Err(
+                error @ SpectrumError::ParallelFaces {
+                    reference: true,
+                    vertex: 0,
+                    ..
+                },
+            ) => assert!(error.to_string().contains("reference surface"), "{error}"),
+            other => panic!("{operator}: {other:?}"),
+        }
+    }
+    for operator in [Operator::Family { tau: 0.5 }, Operator::Squared] {
+        let solved = relative_spectrum(&bumped, &flat, &SpectrumOptions::new(operator, 4));
+        assert!(solved.is_ok(), "{operator}: {solved:?}");
+    }
 }
 
 /// A short open cylinder (200 segments, height 10⁻³): `D_N` nearly annihilates the functions of

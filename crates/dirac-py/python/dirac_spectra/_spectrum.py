@@ -184,8 +184,10 @@ def spectrum(
             ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``, ``"anisotropic-laplace"``
             (Andreux et al. 2014, needs ``anisotropy``). ``"family-literal"`` is solved from
             the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
-            on curved meshes) it raises ``SolverError``; ``"extrinsic-dirac"`` on a planar
-            mesh raises ``KernelError``.
+            on curved meshes) it raises ``SolverError``; ``"extrinsic-dirac"`` on a mesh
+            with a piece whose faces are all parallel to one direction (planar, or a prism
+            such as an open tube) raises ``KernelError``, and so does ``"relative-dirac"``
+            relative to such a reference surface.
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).

@@ -25,7 +25,9 @@ class                  builtin base                raised when
                                                    well parameters, threads not 1 or 2
 ``KernelError``        ``ValueError``              the operator has fewer nonzero eigenvalues
                                                    than asked for outside its exact kernel (or
-                                                   none at all: a planar mesh for relative Dirac)
+                                                   none at all: a planar mesh for relative Dirac),
+                                                   or has a kernel it does not remove (D_f on a
+                                                   plane or an open prism)
 ``SingularError``      ``ArithmeticError``         a matrix is numerically singular (``vertex``
                                                    where the factorisation failed, if known)
 ``SolverError``        ``RuntimeError``            the eigensolver failed
@@ -129,6 +131,8 @@ _OPTION_SPELLING = [
     ("--include-kernel", "include_kernel=True"),
     ("--flat-tolerance ", "flat_tolerance="),
     ("--operator family:T", 'operator="family", tau=T'),
+    ("--operator laplace", 'operator="laplace"'),
+    ("with --repair", "with dirac_spectra.repair(V, F) (or read_mesh(path, repair=True))"),
     ("--normalize unit-area", 'normalize="unit-area"'),
 ]
 

@@ -717,18 +717,33 @@ pub enum SpectrumError {
         /// Connected components of the mesh (all flat).
         components: usize,
     },
-    /// The extrinsic Dirac operator on a mesh with a planar component, where its kernel holds
-    /// the linear functions of the plane besides the constants.
+    /// A pinned Dirac pencil whose second surface `f2` (the mesh itself for `D_f`, else the
+    /// reference surface) has a piece whose faces are all parallel to one direction `u` (a
+    /// plane, or a prism such as an open tube): there `D_{f,f2}` annihilates the linear
+    /// function `u f2` besides the constants, a kernel the solver does not remove.
     #[error(
-        "the extrinsic Dirac operator D_f is not solved on planar pieces: the component of \
-         vertex {vertex} lies in one plane, where D_f (the Cauchy–Riemann operator of the \
-         plane) annihilates the linear functions a·f (a in the plane) besides the constants, a \
-         kernel the solver does not remove; for the spectrum of a flat domain use --operator \
-         laplace"
+        "the {operator} operator is not solved here: every face of {}'s component of vertex \
+         {vertex} is parallel to the direction ({:.6}, {:.6}, {:.6}) (the piece is planar, or a \
+         prism such as an open tube), where {} annihilates the linear function u·{} besides the \
+         constants, a kernel the solver does not remove; use --operator family:T (0 < T < 1), \
+         whose blend with the Laplacian has only the constants in its kernel{}",
+        if *reference { "the reference surface" } else { "the mesh" },
+        direction[0],
+        direction[1],
+        direction[2],
+        if *reference { "D_{f,B}" } else { "D_f" },
+        if *reference { "B" } else { "f" },
+        if *reference { "" } else { ", or --operator laplace for a flat domain" }
     )]
-    PlanarExtrinsicDirac {
-        /// The smallest vertex of the planar component.
+    ParallelFaces {
+        /// The operator asked for.
+        operator: Operator,
+        /// Whether the second surface is the reference surface (else the mesh: `D_f`).
+        reference: bool,
+        /// The smallest vertex of the piece.
         vertex: usize,
+        /// A unit direction every face of the piece is parallel to.
+        direction: [f64; 3],
     },
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(

@@ -13,7 +13,7 @@ use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
 use crate::geometry::{
-    barycentric_masses, cotan_laplacian, cross, norm, normalize, sub, vertex_normals,
+    barycentric_masses, cotan_laplacian, cross, dot, norm, normalize, sub, vertex_normals,
 };
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
 use crate::well::{dirac_with_well, laplacian_with_well};
@@ -138,11 +138,14 @@ impl OperatorPencil {
                 return Ok(real(laplacian(modified_dirichlet(mesh, &masses)?)?));
             }
             Operator::Squared => dirac(relative)?.squared(mass(), &masses, potential, mesh),
-            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => dirac(relative)?.pinned(),
-            Operator::ExtrinsicDirac => {
-                if let Some(vertex) = planar_component(mesh) {
-                    return Err(SpectrumError::PlanarExtrinsicDirac { vertex });
+            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
+                if let Some(reference) = reference {
+                    parallel_faces_error(operator, mesh, reference, true)?;
                 }
+                dirac(relative)?.pinned()
+            }
+            Operator::ExtrinsicDirac => {
+                parallel_faces_error(operator, mesh, mesh.positions(), false)?;
                 dirac(SecondImmersion::Positions)?.pinned()
             }
             Operator::Family { tau } => {
@@ -345,37 +348,110 @@ fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64
     .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
-/// Unit face normals closer than this lie in one plane (rounding leaves `~10⁻¹⁶`, and `10⁻¹³`
-/// on sliver faces).
-const PLANAR_TOLERANCE: f64 = 1e-10;
+/// Unit face normals within this of perpendicular to a direction are parallel to it
+/// (rounding leaves `~10⁻¹⁶`, and `10⁻¹³` on sliver faces).
+const PARALLEL_TOLERANCE: f64 = 1e-10;
 
-/// The smallest vertex of a connected component whose faces all lie in one plane (unit normals
-/// within [`PLANAR_TOLERANCE`] of its first face's), if there is one.
+/// A connected component of the surface `positions` (with `mesh`'s faces) every face of which
+/// is parallel to one unit direction `u` (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for its unit
+/// normals `n_t`): its smallest vertex and `u`, if there is one. A planar piece is parallel to
+/// every direction of its plane; a prism (an open tube of straight rulings, a folded strip) to
+/// its rulings.
 ///
-/// On such a piece `D_f` annihilates, besides the constants, the linear functions `a f q` with
-/// `a` a unit vector of the plane (`df ∧ d(a f) = 0` there, and the discrete operator is exact
-/// on linear functions), a kernel the solver does not remove.
-fn planar_component(mesh: &TriMesh) -> Option<usize> {
-    let mut components = DisjointSets::new(mesh.vertex_count());
+/// On such a piece `D_{f,f2}` (with `f2` the surface `positions`) annihilates, besides the
+/// constants, the linear function `u f2 q`: `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u df2(X)`
+/// vanishes when the three vectors lie in one plane, which they do on every face, and the
+/// discrete operator is exact on linear functions. The pinned form does not remove that kernel.
+fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]]) -> Option<(usize, [f64; 3])> {
+    let n = mesh.vertex_count();
+    let mut components = DisjointSets::new(n);
     for &[a, b, c] in mesh.faces() {
         components.union(a, b);
         components.union(a, c);
     }
-    let mut first: Vec<Option<[f64; 3]>> = vec![None; mesh.vertex_count()];
-    let mut planar = vec![true; mesh.vertex_count()];
-    let positions = mesh.positions();
-    for &[a, b, c] in mesh.faces() {
-        let normal = normalize(cross(
-            sub(positions[b], positions[a]),
-            sub(positions[c], positions[a]),
-        ));
+    let normals: Vec<[f64; 3]> = (mesh.faces().iter())
+        .map(|&[a, b, c]| {
+            let (p, q, r) = (positions[a], positions[b], positions[c]);
+            normalize(cross(sub(q, p), sub(r, p)))
+        })
+        .collect();
+    // Per component: its first face's normal, and the cross product of it with the normal
+    // farthest from parallel to it, whose direction is the only candidate unless the piece is
+    // planar.
+    let mut first: Vec<Option<[f64; 3]>> = vec![None; n];
+    let mut widest = vec![[0.0; 3]; n];
+    for (&[a, ..], &normal) in mesh.faces().iter().zip(&normals) {
         let root = components.find(a);
         match first[root] {
             None => first[root] = Some(normal),
-            Some(reference) => planar[root] &= norm(sub(normal, reference)) <= PLANAR_TOLERANCE,
+            Some(reference) => {
+                let candidate = cross(reference, normal);
+                if norm(candidate) > norm(widest[root]) {
+                    widest[root] = candidate;
+                }
+            }
         }
     }
-    (0..mesh.vertex_count()).find(|&v| planar[components.find(v)])
+    let direction: Vec<Option<[f64; 3]>> = (0..n)
+        .map(|root| {
+            let reference = first[root]?;
+            Some(if norm(widest[root]) > PARALLEL_TOLERANCE {
+                normalize(widest[root])
+            } else {
+                // Planar: any direction of the plane; the one across the least aligned axis.
+                let axis = (0..3)
+                    .min_by(|&i, &j| reference[i].abs().total_cmp(&reference[j].abs()))
+                    .map(|i| std::array::from_fn(|k| if k == i { 1.0 } else { 0.0 }))?;
+                normalize(cross(reference, axis))
+            })
+        })
+        .collect();
+    let mut parallel: Vec<bool> = direction.iter().map(Option::is_some).collect();
+    for (&[a, ..], &normal) in mesh.faces().iter().zip(&normals) {
+        let root = components.find(a);
+        if let Some(u) = direction[root] {
+            parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
+        }
+    }
+    let (vertex, root) = (0..n)
+        .map(|v| (v, components.find(v)))
+        .find(|&(_, root)| parallel[root])?;
+    Some((vertex, canonical_direction(direction[root]?)))
+}
+
+/// `±u` with its largest component positive and rounding-sized ones zero: the direction as a
+/// reader would write it.
+fn canonical_direction(u: [f64; 3]) -> [f64; 3] {
+    let largest = u
+        .into_iter()
+        .fold(0.0, |a: f64, c| if c.abs() > a.abs() { c } else { a });
+    u.map(|c| {
+        if c.abs() <= 1e-12 {
+            0.0
+        } else {
+            c * largest.signum()
+        }
+    })
+}
+
+/// [`SpectrumError::ParallelFaces`] if the second surface of `operator`'s pinned pencil
+/// (`positions`: the reference surface, or the mesh itself for `D_f`) has a piece whose faces
+/// are all parallel to one direction ([`parallel_faces`]).
+fn parallel_faces_error(
+    operator: Operator,
+    mesh: &TriMesh,
+    positions: &[[f64; 3]],
+    reference: bool,
+) -> Result<(), SpectrumError> {
+    match parallel_faces(mesh, positions) {
+        Some((vertex, direction)) => Err(SpectrumError::ParallelFaces {
+            operator,
+            reference,
+            vertex,
+            direction,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// `ε = 10⁻¹⁰ · Σ_p P_pp / Σ_p M_pp` over the vertices inside the well (`U_p = 0`; all
