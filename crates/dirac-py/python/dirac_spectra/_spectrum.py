@@ -186,8 +186,10 @@ def spectrum(
             the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
             on curved meshes) it raises ``SolverError``; ``"extrinsic-dirac"`` on a mesh
             with a piece whose faces are all parallel to one direction (planar, or a prism
-            such as an open tube) raises ``KernelError``, and so does ``"relative-dirac"``
-            relative to such a reference surface.
+            such as an open tube) raises ``KernelError``, and so do ``"relative-dirac"``
+            relative to such a reference surface and ``"relative-dirac"`` itself where the
+            vertex normals of a piece lie in one plane (an open tube, a straight crease from
+            boundary to boundary): a kernel the solver does not remove.
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).

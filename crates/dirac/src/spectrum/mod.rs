@@ -626,6 +626,58 @@ pub struct Spectrum {
     pub kernel: KernelSummary,
 }
 
+/// The second surface `f2` of a first-order operator `D_{f,f2}`, as an error names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SecondSurface {
+    /// The Gauss map `N` (the vertex normals): `D_N`.
+    GaussMap,
+    /// The mesh's own positions: `D_f`.
+    Mesh,
+    /// The reference surface `B` of a relative spectrum: `D_{f,B}`.
+    Reference,
+}
+
+impl SecondSurface {
+    /// How it is written in formulas.
+    fn symbol(self) -> &'static str {
+        match self {
+            Self::GaussMap => "N",
+            Self::Mesh => "f",
+            Self::Reference => "B",
+        }
+    }
+
+    /// The first-order operator built on it.
+    fn operator(self) -> &'static str {
+        match self {
+            Self::GaussMap => "D_N",
+            Self::Mesh => "D_f",
+            Self::Reference => "D_{f,B}",
+        }
+    }
+
+    /// What is parallel to `direction` on the piece (`None`: every triangle is a segment).
+    fn describe(self, direction: Option<[f64; 3]>) -> String {
+        let triangles = match self {
+            Self::GaussMap => "the triangles of the vertex normals N",
+            Self::Mesh => "the faces of the mesh",
+            Self::Reference => "the faces of the reference surface",
+        };
+        let example = match self {
+            Self::GaussMap => "a crease between flat parts, a cylinder or a cone",
+            Self::Mesh | Self::Reference => "the piece is planar, or a prism such as an open tube",
+        };
+        match direction {
+            Some([x, y, z]) => {
+                format!(
+                    "{triangles} are all parallel to the direction ({x:.6}, {y:.6}, {z:.6}) ({example})"
+                )
+            }
+            None => format!("{triangles} are all segments ({example})"),
+        }
+    }
+}
+
 /// Why a spectrum could not be computed.
 #[derive(Debug, Clone, Error)]
 #[non_exhaustive]
@@ -717,33 +769,35 @@ pub enum SpectrumError {
         /// Connected components of the mesh (all flat).
         components: usize,
     },
-    /// A pinned Dirac pencil whose second surface `f2` (the mesh itself for `D_f`, else the
-    /// reference surface) has a piece whose faces are all parallel to one direction `u` (a
-    /// plane, or a prism such as an open tube): there `D_{f,f2}` annihilates the linear
-    /// function `u f2` besides the constants, a kernel the solver does not remove.
+    /// A pinned Dirac pencil `D_{f,f2}` whose second surface `f2` (the Gauss map for `D_N`, the
+    /// mesh itself for `D_f`, else the reference surface) has a piece on which every triangle
+    /// is parallel to one direction `u` (planar, a prism such as an open tube; for the Gauss map
+    /// a crease between flat parts, a cylinder or a cone): there `D_{f,f2}` annihilates the
+    /// linear function `u f2` (`f2` itself when every triangle is a segment) besides the
+    /// constants, a kernel the solver does not remove.
     #[error(
-        "the {operator} operator is not solved here: every face of {}'s component of vertex \
-         {vertex} is parallel to the direction ({:.6}, {:.6}, {:.6}) (the piece is planar, or a \
-         prism such as an open tube), where {} annihilates the linear function u·{} besides the \
-         constants, a kernel the solver does not remove; use --operator family:T (0 < T < 1), \
-         whose blend with the Laplacian has only the constants in its kernel{}",
-        if *reference { "the reference surface" } else { "the mesh" },
-        direction[0],
-        direction[1],
-        direction[2],
-        if *reference { "D_{f,B}" } else { "D_f" },
-        if *reference { "B" } else { "f" },
-        if *reference { "" } else { ", or --operator laplace for a flat domain" }
+        "the {operator} operator is not solved here: on the piece of vertex {vertex}, {}, where \
+         {} annihilates {} besides the constants, a kernel the solver does not remove; use \
+         --operator family:T (0 < T < 1), whose blend with the Laplacian has only the constants \
+         in its kernel{}",
+        surface.describe(*direction),
+        surface.operator(),
+        match direction {
+            Some(_) => format!("the linear function u·{}", surface.symbol()),
+            None => format!("{} itself", surface.symbol()),
+        },
+        if *surface == SecondSurface::Mesh { ", or --operator laplace for a flat domain" } else { "" }
     )]
     ParallelFaces {
         /// The operator asked for.
         operator: Operator,
-        /// Whether the second surface is the reference surface (else the mesh: `D_f`).
-        reference: bool,
+        /// Which surface `f2` is.
+        surface: SecondSurface,
         /// The smallest vertex of the piece.
         vertex: usize,
-        /// A unit direction every face of the piece is parallel to.
-        direction: [f64; 3],
+        /// A unit direction `u` every triangle of the piece is parallel to (`None`: every
+        /// triangle is a segment, parallel to every direction).
+        direction: Option<[f64; 3]>,
     },
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(

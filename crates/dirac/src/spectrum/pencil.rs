@@ -8,7 +8,7 @@ use qscalar::{Quat, Scalar};
 use qsparse::{DisjointSets, SparseCholesky, SparseMatrix, SymbolicCholesky};
 
 use super::kernel::{Reduction, flat_faces, vanishing_faces};
-use super::{Operator, SpectrumError};
+use super::{Operator, SecondSurface, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
@@ -139,14 +139,11 @@ impl OperatorPencil {
             }
             Operator::Squared => dirac(relative)?.squared(mass(), &masses, potential, mesh),
             Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
-                if let Some(reference) = reference {
-                    parallel_faces_error(operator, mesh, reference, true)?;
-                }
-                dirac(relative)?.pinned()
+                dirac(relative)?.pinned(operator, mesh, relative)?
             }
             Operator::ExtrinsicDirac => {
-                parallel_faces_error(operator, mesh, mesh.positions(), false)?;
-                dirac(SecondImmersion::Positions)?.pinned()
+                let second = SecondImmersion::Positions;
+                dirac(second)?.pinned(operator, mesh, second)?
             }
             Operator::Family { tau } => {
                 // `L` does not vanish on flat faces: no face is flat for the blend.
@@ -309,15 +306,37 @@ impl FirstOrder {
         spec
     }
 
-    /// `A x = λ G x` in pinned form.
-    fn pinned(self) -> PencilSpec<Quat<f64>> {
-        PencilSpec {
+    /// `A x = λ G x` in pinned form, unless the second surface has a piece whose triangles
+    /// are all parallel to one direction ([`parallel_faces`]): a kernel the pinned form does
+    /// not remove.
+    fn pinned(
+        self,
+        operator: Operator,
+        mesh: &TriMesh,
+        second: SecondImmersion,
+    ) -> Result<PencilSpec<Quat<f64>>, SpectrumError> {
+        let (positions, surface) = match second {
+            SecondImmersion::GaussMap => (self.normals.as_deref(), SecondSurface::GaussMap),
+            SecondImmersion::Positions => (Some(mesh.positions()), SecondSurface::Mesh),
+            SecondImmersion::Surface(f2) => (Some(f2), SecondSurface::Reference),
+        };
+        if let Some((vertex, direction)) =
+            positions.and_then(|f2| parallel_faces(mesh, f2, &self.flat))
+        {
+            return Err(SpectrumError::ParallelFaces {
+                operator,
+                surface,
+                vertex,
+                direction,
+            });
+        }
+        Ok(PencilSpec {
             operator: self.operator,
             exact: self.exact,
             flat: self.flat,
             normals: self.normals,
             form: Form::Pinned,
-        }
+        })
     }
 }
 
@@ -348,40 +367,64 @@ fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64
     .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
-/// Unit face normals within this of perpendicular to a direction are parallel to it
-/// (rounding leaves `~10⁻¹⁶`, and `10⁻¹³` on sliver faces).
+/// Unit face normals within this of perpendicular to a direction are parallel to it, and
+/// triangles whose height is below this times their longest edge are segments (rounding leaves
+/// `~10⁻¹⁶`, and `10⁻¹³` on sliver faces).
 const PARALLEL_TOLERANCE: f64 = 1e-10;
 
-/// A connected component of the surface `positions` (with `mesh`'s faces) every face of which
-/// is parallel to one unit direction `u` (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for its unit
-/// normals `n_t`): its smallest vertex and `u`, if there is one. A planar piece is parallel to
-/// every direction of its plane; a prism (an open tube of straight rulings, a folded strip) to
-/// its rulings.
+/// A piece of the mesh (connected through the faces not `skipped`) on which every triangle of
+/// the second surface `f2 = positions` is parallel to one unit direction `u`
+/// (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for the unit normals `n_t` of its triangles that are
+/// not segments): its smallest vertex and `u`, or `None` for `u` if every triangle of the piece
+/// is a segment (parallel to every direction). If there is one.
 ///
-/// On such a piece `D_{f,f2}` (with `f2` the surface `positions`) annihilates, besides the
-/// constants, the linear function `u f2 q`: `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u df2(X)`
-/// vanishes when the three vectors lie in one plane, which they do on every face, and the
-/// discrete operator is exact on linear functions. The pinned form does not remove that kernel.
-fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]]) -> Option<(usize, [f64; 3])> {
+/// On such a piece `D_{f,f2}` annihilates, besides the constants, the linear function `u f2 q`
+/// (`f2` itself if every triangle is a segment): `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u
+/// df2(X)` vanishes when the three vectors lie in one plane, or `df2(X)` and `df2(Y)` on one
+/// line, which they do on every face, and the discrete operator is exact on linear functions.
+/// The pinned form does not remove that kernel. For `f2 = f` a planar piece is parallel to every
+/// direction of its plane, a prism (an open tube of straight rulings, a folded strip) to its
+/// rulings; for the Gauss map `f2 = N` the triangles of normals are segments along a crease
+/// between flat parts and on a cylinder, and parallel to the axis on a cone.
+fn parallel_faces(
+    mesh: &TriMesh,
+    positions: &[[f64; 3]],
+    skipped: &[bool],
+) -> Option<(usize, Option<[f64; 3]>)> {
     let n = mesh.vertex_count();
-    let mut components = DisjointSets::new(n);
-    for &[a, b, c] in mesh.faces() {
-        components.union(a, b);
-        components.union(a, c);
+    let faces = || {
+        (mesh.faces().iter())
+            .zip(skipped)
+            .filter(|(_, s)| !**s)
+            .map(|(f, _)| f)
+    };
+    let mut pieces = DisjointSets::new(n);
+    for &[a, b, c] in faces() {
+        pieces.union(a, b);
+        pieces.union(a, c);
     }
-    let normals: Vec<[f64; 3]> = (mesh.faces().iter())
+    // Roots of pieces with a face (a vertex whose faces are all skipped is in none).
+    let mut present = vec![false; n];
+    for &[a, ..] in faces() {
+        present[pieces.find(a)] = true;
+    }
+    // Unit normals of the triangles that are not segments.
+    let normals: Vec<Option<[f64; 3]>> = faces()
         .map(|&[a, b, c]| {
             let (p, q, r) = (positions[a], positions[b], positions[c]);
-            normalize(cross(sub(q, p), sub(r, p)))
+            let normal = cross(sub(q, p), sub(r, p));
+            let longest = norm(sub(q, p)).max(norm(sub(r, q))).max(norm(sub(p, r)));
+            (norm(normal) > PARALLEL_TOLERANCE * longest * longest).then(|| normalize(normal))
         })
         .collect();
-    // Per component: its first face's normal, and the cross product of it with the normal
-    // farthest from parallel to it, whose direction is the only candidate unless the piece is
-    // planar.
+    // Per piece: its first normal, and the cross product of it with the normal farthest from
+    // parallel to it, whose direction is the only candidate unless the piece is planar.
     let mut first: Vec<Option<[f64; 3]>> = vec![None; n];
     let mut widest = vec![[0.0; 3]; n];
-    for (&[a, ..], &normal) in mesh.faces().iter().zip(&normals) {
-        let root = components.find(a);
+    for (&[a, ..], normal) in faces().zip(&normals) {
+        let (root, Some(normal)) = (pieces.find(a), *normal) else {
+            continue;
+        };
         match first[root] {
             None => first[root] = Some(normal),
             Some(reference) => {
@@ -406,17 +449,17 @@ fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]]) -> Option<(usize, [f64
             })
         })
         .collect();
-    let mut parallel: Vec<bool> = direction.iter().map(Option::is_some).collect();
-    for (&[a, ..], &normal) in mesh.faces().iter().zip(&normals) {
-        let root = components.find(a);
-        if let Some(u) = direction[root] {
-            parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
+    let mut parallel = present.clone();
+    for (&[a, ..], normal) in faces().zip(&normals) {
+        let root = pieces.find(a);
+        if let (Some(u), Some(normal)) = (direction[root], normal) {
+            parallel[root] &= dot(u, *normal).abs() <= PARALLEL_TOLERANCE;
         }
     }
     let (vertex, root) = (0..n)
-        .map(|v| (v, components.find(v)))
+        .map(|v| (v, pieces.find(v)))
         .find(|&(_, root)| parallel[root])?;
-    Some((vertex, canonical_direction(direction[root]?)))
+    Some((vertex, direction[root].map(canonical_direction)))
 }
 
 /// `±u` with its largest component positive and rounding-sized ones zero: the direction as a
@@ -432,26 +475,6 @@ fn canonical_direction(u: [f64; 3]) -> [f64; 3] {
             c * largest.signum()
         }
     })
-}
-
-/// [`SpectrumError::ParallelFaces`] if the second surface of `operator`'s pinned pencil
-/// (`positions`: the reference surface, or the mesh itself for `D_f`) has a piece whose faces
-/// are all parallel to one direction ([`parallel_faces`]).
-fn parallel_faces_error(
-    operator: Operator,
-    mesh: &TriMesh,
-    positions: &[[f64; 3]],
-    reference: bool,
-) -> Result<(), SpectrumError> {
-    match parallel_faces(mesh, positions) {
-        Some((vertex, direction)) => Err(SpectrumError::ParallelFaces {
-            operator,
-            reference,
-            vertex,
-            direction,
-        }),
-        None => Ok(()),
-    }
 }
 
 /// `ε = 10⁻¹⁰ · Σ_p P_pp / Σ_p M_pp` over the vertices inside the well (`U_p = 0`; all
@@ -552,4 +575,37 @@ fn gershgorin_shift(operator: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
     }
     let bound = lower.iter().copied().fold(f64::INFINITY, f64::min);
     1.01 * (-bound).max(0.0) + 1e-8 * scale.max(f64::MIN_POSITIVE)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generators::{grid, icosphere};
+
+    #[test]
+    fn parallel_faces_finds_planes_segments_and_nothing_on_a_sphere() {
+        let plane = grid(3, 2, 1.0, 1.0).unwrap();
+        let none = vec![false; plane.face_count()];
+        let (vertex, direction) = parallel_faces(&plane, plane.positions(), &none).unwrap();
+        let direction = direction.unwrap();
+        assert_eq!(vertex, 0);
+        assert!(direction[2] == 0.0 && (norm(direction) - 1.0).abs() < 1e-15);
+
+        // A second surface on one line: every triangle is a segment, parallel to everything.
+        let line: Vec<[f64; 3]> = (0..plane.vertex_count())
+            .map(|v| [v as f64, 2.0 * v as f64, 0.5])
+            .collect();
+        assert_eq!(parallel_faces(&plane, &line, &none), Some((0, None)));
+
+        let sphere = icosphere(1);
+        let none = vec![false; sphere.face_count()];
+        assert_eq!(parallel_faces(&sphere, sphere.positions(), &none), None);
+        // With all but one face skipped, that face alone is a planar piece; the vertices of
+        // skipped faces only are in no piece.
+        let mut skipped = vec![true; sphere.face_count()];
+        skipped[7] = false;
+        let smallest = *sphere.faces()[7].iter().min().unwrap();
+        let found = parallel_faces(&sphere, sphere.positions(), &skipped);
+        assert_eq!(found.map(|(v, _)| v), Some(smallest));
+    }
 }
