@@ -48,15 +48,19 @@ def test_errors_are_typed():
         ds.spectrum(V, F, k=4, relative_to=V[:-1])
 
 
-def test_a_planar_reference_is_a_kernel_error_for_relative_dirac():
-    # Relative to its own flattening, D_{f,B} annihilates the linear functions of B's plane
-    # besides the constants: the pinned solver does not remove that kernel and says so; the
-    # family blends in the Laplacian of f and is solved.
+def test_a_planar_reference_adds_a_linear_function_to_the_kernel():
+    # Relative to its own flattening W, D_{f,W} annihilates the linear functions u·W of the
+    # plane besides the constants: the kernel has one more dimension, removed like the
+    # constant, and the spectrum keeps the identities of the relative operator (scaling W by c
+    # scales every eigenvalue by c; moving W rigidly out of its plane changes none).
     W, F = grid(6, 5)
     V = W.copy()
     V[:, 2] = 0.3 * np.sin(3 * W[:, 0]) * np.cos(2 * W[:, 1])
-    with pytest.raises(ds.KernelError, match="reference surface") as error:
-        ds.spectrum(V, F, k=4, relative_to=W)
-    assert 'operator="family", tau=T' in str(error.value)
-    blended = ds.spectrum(V, F, k=4, operator="family", tau=0.5, relative_to=W)
-    assert blended.converged.all() and len(blended.eigenvalues) == 4
+    base = ds.spectrum(V, F, k=6, relative_to=W)
+    assert (base.kernel_dimension, base.kernel_linear_functions) == (2, 1)
+    scaled = ds.spectrum(V, F, k=6, relative_to=1.7 * W).eigenvalues
+    np.testing.assert_allclose(scaled, 1.7 * base.eigenvalues, rtol=1e-8)
+    moved = W @ rotation(np.array([1.0, -2.0, 0.5]), 0.9).T + np.array([0.5, 1.0, -2.0])
+    np.testing.assert_allclose(
+        ds.spectrum(V, F, k=6, relative_to=moved).eigenvalues, base.eigenvalues, rtol=1e-8
+    )

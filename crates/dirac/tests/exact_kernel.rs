@@ -7,10 +7,11 @@
 use dirac::TriMesh;
 use dirac::generators::{grid, subdivided_cube};
 use dirac::geometry::barycentric_masses;
-use dirac::operators::{DiracPencil, normal_dirac};
+use dirac::operators::{DiracPencil, extrinsic_dirac, normal_dirac};
 use dirac::phase::mass_inner;
 use dirac::spectrum::{
-    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, spectrum,
+    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions,
+    relative_spectrum, spectrum,
 };
 use qeig::dense::hermitian_eigen;
 use qscalar::random::SplitMix64;
@@ -554,6 +555,146 @@ fn many_components_repeat_the_spectrum_of_one() {
                     "{operator:?}: eigenvector {i} on copy {c}: {along}"
                 );
             }
+        }
+    }
+}
+
+/// The nonzero `λ` of `P x = λ Q x` sorted by `|λ|` and `dim ker P`, for a pencil whose
+/// kernel is not known in advance and need not be in `ker Q` (a piece with boundary): the
+/// kernel `K` from a dense eigensolve of `P` (mass-scaled; eigenvalues at most `10⁻⁹` of the
+/// largest), and the pencil compressed to the complement of `span(K, Q K)`. Every eigenvector
+/// with `λ ≠ 0` is `y + K c` with `y` there (it satisfies `(Q K)* x = 0`, and `K* Q K = 0` for
+/// the Dirac pencils), `P` is definite there, and `y` solves the compressed pencil. Nothing of
+/// the flat faces, the pieces or the linear functions of the solver is used.
+fn dense_reference_with_numerical_kernel(
+    stiffness: &SparseMatrix<Quat<f64>>,
+    coupling: &SparseMatrix<Quat<f64>>,
+    masses: &[f64],
+) -> (usize, Vec<f64>) {
+    let n = masses.len();
+    let (p, q) = (
+        mass_scaled(stiffness, masses),
+        mass_scaled(coupling, masses),
+    );
+    let a = hermitian_eigen(&p).unwrap();
+    let largest = a.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let kernel: Vec<usize> = (0..n).filter(|&j| a.values[j] <= 1e-9 * largest).collect();
+    let k = DenseMatrix::from_fn(n, kernel.len(), |i, c| a.vectors.col(kernel[c])[i]);
+    let qk = q.matmul(&k).unwrap();
+    // The complement of span(K, QK): the null space of K K* + (QK)(QK)*.
+    let span = DenseMatrix::from_fn(n, n, |i, j| {
+        (0..kernel.len())
+            .map(|c| k.col(c)[i] * k.col(c)[j].conj() + qk.col(c)[i] * qk.col(c)[j].conj())
+            .sum()
+    });
+    let s = hermitian_eigen(&span).unwrap();
+    let top = s.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let complement: Vec<usize> = (0..n).filter(|&j| s.values[j] <= 1e-10 * top).collect();
+    let z = DenseMatrix::from_fn(n, complement.len(), |i, c| s.vectors.col(complement[c])[i]);
+    let compress = |x: &DenseMatrix<Quat<f64>>| z.adjoint().matmul(&x.matmul(&z).unwrap()).unwrap();
+    let e = qeig::dense::generalized_hermitian_eigen(&compress(&q), &compress(&p)).unwrap();
+    let top = e.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut lambdas: Vec<f64> = (e.values.iter())
+        .filter(|mu| mu.abs() > 1e-12 * top)
+        .map(|mu| 1.0 / mu)
+        .collect();
+    lambdas.sort_by(|x, y| x.abs().total_cmp(&y.abs()).then(x.total_cmp(y)));
+    (kernel.len(), lambdas)
+}
+
+/// `got` against the dense `reference` (both sorted by `|λ|`; a pair `±λ` may come in either
+/// order) to `10⁻⁹`.
+fn assert_matches(got: &[f64], reference: &[f64], what: &str) {
+    let sorted = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let (got, want) = (sorted(got), sorted(&reference[..got.len()]));
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert!(
+            (g - w).abs() <= 1e-9 * w.abs(),
+            "{what}: λ_{i} = {g} against dense {w}"
+        );
+    }
+}
+
+/// On a plane and on an open prism every face is parallel to one direction `u`, and `D_f`
+/// annihilates `u f` besides the constants: the kernel has a linear function, removed like the
+/// constant, and the extrinsic Dirac spectrum matches the dense reference (whose kernel of
+/// dimension 2 is found numerically). The same mesh rotated gives the same spectrum with
+/// another `u`.
+#[test]
+fn the_extrinsic_dirac_spectrum_of_a_plane_or_prism_removes_the_linear_function() {
+    let rotation = Quat::new(0.8, 0.2, -0.4, 0.4);
+    let rotation = rotation.scale(1.0 / rotation.abs());
+    let plane = grid(6, 5, 2.0, 1.5).unwrap().rotated(rotation).unwrap();
+    let prism = dirac::generators::cylinder(6, 5, 2.0).unwrap();
+    for mesh in [plane, prism] {
+        let masses = barycentric_masses(&mesh);
+        let pencil = DiracPencil::new(&mesh, &extrinsic_dirac(&mesh).unwrap()).unwrap();
+        let (kernel, reference) =
+            dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
+        assert_eq!(kernel, 2, "constants and one linear function");
+        let options = SpectrumOptions::new(Operator::ExtrinsicDirac, 10);
+        let got = spectrum(&mesh, &options).unwrap();
+        assert_eq!((got.kernel.dimension, got.kernel.linear_functions), (2, 1));
+        assert_matches(&got.eigenvalues, &reference, "D_f");
+        let moved = spectrum(&rotated(&mesh), &options).unwrap();
+        assert_matches(&moved.eigenvalues, &reference, "D_f, moved");
+    }
+}
+
+/// Relative to a planar reference `B` (a surface against its flattening), `D_{f,B}` annihilates
+/// `u B` for `u` in the plane: the relative Dirac spectrum removes it and matches the dense
+/// reference of the same pencil; the family at `τ = 1` is the same pencil.
+#[test]
+fn the_relative_spectrum_against_a_planar_reference_removes_the_linear_function() {
+    let flat = grid(6, 5, 2.0, 1.5).unwrap();
+    let bumped = flat
+        .map_positions(|[x, y, _]| [x, y, 0.3 * (3.0 * x).sin() * (2.0 * y).cos()])
+        .unwrap();
+    let masses = barycentric_masses(&bumped);
+    let d = dirac::operators::relative_dirac(&bumped, flat.positions()).unwrap();
+    let pencil = DiracPencil::new(&bumped, &d).unwrap();
+    let (kernel, reference) =
+        dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
+    assert_eq!(kernel, 2);
+    for operator in [Operator::RelativeDirac, Operator::Family { tau: 1.0 }] {
+        let got = relative_spectrum(&bumped, &flat, &SpectrumOptions::new(operator, 10)).unwrap();
+        assert_eq!(got.kernel.linear_functions, 1);
+        assert_matches(&got.eigenvalues, &reference, "D_(f,B)");
+    }
+}
+
+/// Listed on request, the kernel of `D_f` on a plane is the constant and the linear function,
+/// mass-orthonormal, each annihilated by `A = D* M_F D`.
+#[test]
+fn the_linear_function_is_listed_with_the_kernel() {
+    let plane = grid(5, 4, 2.0, 1.5).unwrap();
+    let mut options = SpectrumOptions::new(Operator::ExtrinsicDirac, 4);
+    options.include_kernel = true;
+    let got = spectrum(&plane, &options).unwrap();
+    assert_eq!(&got.eigenvalues[..2], &[0.0, 0.0]);
+    let pencil = DiracPencil::new(&plane, &extrinsic_dirac(&plane).unwrap()).unwrap();
+    let scale = pencil
+        .stiffness
+        .values()
+        .iter()
+        .map(|q| q.abs())
+        .fold(0.0, f64::max);
+    for (i, x) in got.eigenvectors[..2].iter().enumerate() {
+        let mut ax = vec![Quat::default(); x.len()];
+        pencil.stiffness.mul_vec(x, &mut ax).unwrap();
+        let largest = ax.iter().map(|q| q.abs()).fold(0.0, f64::max);
+        assert!(largest < 1e-13 * scale, "|A x_{i}| = {largest:e}");
+        for (j, y) in got.eigenvectors[..2].iter().enumerate() {
+            let inner = mass_inner(&got.masses, x, y);
+            let want = if i == j { 1.0 } else { 0.0 };
+            assert!(
+                (inner - Quat::from_real(want)).abs() < 1e-12,
+                "⟨x_{i}, x_{j}⟩_M = {inner:?}"
+            );
         }
     }
 }

@@ -65,6 +65,9 @@ pub struct KernelReport {
     pub flat_vertices: usize,
     /// Connected pieces of the other vertices whose constant function is in the kernel.
     pub constants: usize,
+    /// Pieces where a linear function of the second surface is in the kernel too (planes and
+    /// open prisms for extrinsic Dirac).
+    pub linear_functions: usize,
 }
 
 /// An array written beside a batch's JSON (`--save`).
@@ -241,6 +244,7 @@ impl Report {
         self.kernel = KernelReport {
             flat_vertices: spectrum.kernel.flat_vertices,
             constants: spectrum.kernel.constants,
+            linear_functions: spectrum.kernel.linear_functions,
         };
         self.statistics = StatisticsReport {
             iterations: s.iterations,
@@ -319,9 +323,13 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
     let plural = |count: usize, one: &str, many: &str| {
         format!("{count} {}", if count == 1 { one } else { many })
     };
+    let linear = match kernel.linear_functions {
+        0 => String::new(),
+        count => format!(" + {}", plural(count, "linear function", "linear functions")),
+    };
     writeln!(
         out,
-        "kernel      dimension {}: {} + {}; {}; flat tolerance {:e}",
+        "kernel      dimension {}: {} + {}{linear}; {}; flat tolerance {:e}",
         report.kernel_dimension,
         plural(kernel.flat_vertices, "flat vertex", "flat vertices"),
         plural(kernel.constants, "constant", "constants"),

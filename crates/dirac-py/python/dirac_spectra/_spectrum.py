@@ -57,6 +57,9 @@ class Spectrum:
         kernel_dimension: quaternionic dimension of the exactly known kernel (eigenvalue 0).
         kernel_flat_vertices: vertices all of whose faces are flat (one kernel dimension each).
         kernel_constants: connected pieces whose constant function is in the kernel.
+        kernel_linear_functions: pieces on which a linear function ``u f2`` of the second surface
+            is in the kernel too (every triangle of ``f2`` parallel to one direction ``u``: a
+            planar piece or an open prism for ``"extrinsic-dirac"``).
         mass: ``(n,)`` barycentric vertex areas of the mesh as solved (after normalisation).
         scale: factor applied to the positions (1 without normalisation).
         statistics: eigensolver counts and times in seconds.
@@ -72,6 +75,7 @@ class Spectrum:
     kernel_dimension: int
     kernel_flat_vertices: int
     kernel_constants: int
+    kernel_linear_functions: int
     mass: np.ndarray
     scale: float
     statistics: dict[str, float] = field(default_factory=dict)
@@ -143,6 +147,7 @@ def _spectrum(raw: dict, request: _Request) -> Spectrum:
         kernel_dimension=raw["kernel_dimension"],
         kernel_flat_vertices=raw["kernel_flat_vertices"],
         kernel_constants=raw["kernel_constants"],
+        kernel_linear_functions=raw["kernel_linear_functions"],
         mass=raw["mass"],
         scale=raw["scale"],
         statistics=raw["statistics"],
@@ -184,12 +189,10 @@ def spectrum(
             ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``, ``"anisotropic-laplace"``
             (Andreux et al. 2014, needs ``anisotropy``). ``"family-literal"`` is solved from
             the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
-            on curved meshes) it raises ``SolverError``; ``"extrinsic-dirac"`` on a mesh
-            with a piece whose faces are all parallel to one direction (planar, or a prism
-            such as an open tube) raises ``KernelError``, and so do ``"relative-dirac"``
-            relative to such a reference surface and ``"relative-dirac"`` itself where the
-            vertex normals of a piece lie in one plane (an open tube, a straight crease from
-            boundary to boundary): a kernel the solver does not remove.
+            on curved meshes) it raises ``SolverError``; ``"relative-dirac"`` on a piece
+            whose vertex normals lie in one plane with some triangles of them segments (an
+            open tube, a straight crease from boundary to boundary) raises ``KernelError``: a
+            kernel the solver does not remove.
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).

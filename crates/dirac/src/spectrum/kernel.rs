@@ -3,81 +3,120 @@
 //!
 //! * **Flat vertices.** A face is *flat* when the first-order operator's row of it vanishes:
 //!   for `D_N` its corner normals agree within the flat tolerance relative to its edge lengths
-//!   ([`flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex all of whose faces are flat has
-//!   `D δ_p = 0` and `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is in `ker P ∩ ker Q` for every
-//!   quaternion `q`. Every other eigenvector is mass-orthogonal to it, which for the diagonal
-//!   mass means `x_p = 0`: the vertex is removed from the problem.
-//! * **Constants.** The remaining vertices split into pieces connected through faces that are
-//!   not flat. For each piece `S` whose indicator `𝟙_S` the stiffness annihilates
-//!   (`Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ|P_ij|` over the piece's columns), `𝟙_S q` is in the kernel of `P`; its [`Coupling`] says how the
-//!   other eigenvectors relate to it. Unless `Q 𝟙_S = 0`, every eigenvector with `λ ≠ 0`
-//!   satisfies `(Q 𝟙_S)* x = 0`, because `𝟙_S* P x = 0 = λ 𝟙_S* Q x`.
+//!   ([`flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex
+//!   all of whose faces are flat has `D δ_p = 0` and `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is
+//!   in `ker P ∩ ker Q` for every quaternion `q`. Every other eigenvector is mass-orthogonal to
+//!   it, which for the diagonal mass means `x_p = 0`: the vertex is removed from the problem.
+//! * **Modes of pieces.** The remaining vertices split into pieces connected through faces that
+//!   are not flat. For each piece `S` whose indicator `𝟙_S` the stiffness annihilates
+//!   (`Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ|P_ij|` over the piece's columns), `𝟙_S q` is in the kernel of `P`; so
+//!   is, on a piece where every triangle of the second surface `f2` of `D_{f,f2}` is parallel to
+//!   one direction `u`, the linear function `u (f2 − f̄2) q` (found by the pencil's assembly,
+//!   checked here the same way). Each such *mode* `k` has a [`Coupling`] that says how the other
+//!   eigenvectors relate to it: unless `Q k = 0`, every eigenvector with `λ ≠ 0` satisfies
+//!   `(Q k)* x = 0`, because `k* P x = 0 = λ k* Q x`.
 
 use qscalar::Scalar;
-use qsparse::{DisjointSets, SparseMatrix, SparseVector};
+use qsparse::{DisjointSets, SparseMatrix, SparseVector, vector};
 
 use crate::TriMesh;
 use crate::geometry::{norm, sub};
 
-/// Relative size `Σ|P 𝟙_S| ≤ 10⁻¹⁰ Σ_{j∈S} Σ_i |P_ij|` below which a piece's constant is in
-/// the kernel (and likewise for `Q` in [`Coupling`]); rounding leaves `~10⁻¹⁶`.
-const CONSTANT_TOLERANCE: f64 = 1e-10;
+/// Relative size `Σ|P k| ≤ 10⁻¹⁰ Σ_j |k_j| Σ_i |P_ij|` below which a mode `k` is in the kernel
+/// (and likewise for `Q` in [`Coupling`]); rounding leaves `~10⁻¹⁶`.
+const MODE_TOLERANCE: f64 = 1e-10;
 
-/// How the other eigenvectors relate to a constant mode `𝟙_S` of `P`, with `g = Q 𝟙_S`.
+/// How the other eigenvectors relate to a mode `k` of `P`, with `g = Q k`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Coupling {
-    /// `g = 0` (a closed piece of a Dirac pencil): `𝟙_S` is in `ker P ∩ ker Q`, eigenvectors
+    /// `g = 0` (a closed piece of a Dirac pencil): `k` is in `ker P ∩ ker Q`, eigenvectors
     /// are defined up to it and the mass-orthogonal one is returned.
     Free,
-    /// `g ≠ 0` but `𝟙_S* g = 0` (a Dirac pencil on a piece with boundary): `λ = 0` is a
+    /// `g ≠ 0` but `k* g = 0` (a Dirac pencil on a piece with boundary): `λ = 0` is a
     /// defective eigenvalue there, and the others satisfy `g* x = 0`.
     Orthogonal,
-    /// `𝟙_S* g ≠ 0` (the blended family, the mass of a shifted pencil): `𝟙_S` is an ordinary
+    /// `k* g ≠ 0` (the blended family, the mass of a shifted pencil): `k` is an ordinary
     /// eigenvector with `λ = 0`, and the others satisfy `g* x = 0`.
     Oblique,
 }
 
-/// The constant function of one connected piece of the non-flat vertices, for a pencil over
-/// the scalar `T`.
+/// What a mode of a piece is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum ModeKind {
+    /// The constant `𝟙_S`.
+    Constant,
+    /// A linear function `u (f2 − f̄2)` of the second surface, mass-orthogonal to `𝟙_S`.
+    Linear,
+}
+
+/// A kernel vector of `P` supported on one connected piece of the non-flat vertices, for a
+/// pencil over the scalar `T`.
 #[derive(Debug, Clone)]
-pub(super) struct ConstantMode<T> {
-    /// The vertices of the piece, ascending.
-    pub vertices: Vec<usize>,
+pub(super) struct KernelMode<T> {
+    /// Constant or linear.
+    pub kind: ModeKind,
+    /// `k` on its piece (rows: the piece's vertices, ascending).
+    pub vector: SparseVector<T>,
     /// How the other eigenvectors relate to it.
     pub coupling: Coupling,
-    /// `g = Q 𝟙_S`, by its entries in the rows `Q` couples to the piece: held in full, the
+    /// `g = Q k`, by its entries in the rows `Q` couples to the piece: held in full, the
     /// images of a mesh of thousands of pieces (a triangle soup) would take gigabytes.
+    pub image: SparseVector<T>,
+    /// The vertex the pinned form sets to zero to remove it: the piece's first vertex for the
+    /// constant; for a linear mode the vertex where it differs most from its value there (two
+    /// pins where `k` differs exclude every combination `𝟙_S a + k b`).
+    pub pin: usize,
+}
+
+/// A linear mode's own parts of its [`Coupling`] restoration, orthogonalised against the
+/// earlier modes of its piece (see [`ExactKernel::restoration`]).
+#[derive(Debug, Clone)]
+pub(super) struct Restoration<T> {
+    /// `k'`, the mode minus its earlier modes' parts.
+    pub vector: SparseVector<T>,
+    /// `g' = Q k'`, orthogonal to the images of the earlier modes.
     pub image: SparseVector<T>,
 }
 
-/// The kernel of a pencil that is known exactly: flat vertices and constant modes.
+/// The kernel of a pencil that is known exactly: flat vertices and the modes of pieces.
 #[derive(Debug, Clone)]
 pub(super) struct ExactKernel<T> {
     /// Vertices whose every face is flat (ascending).
     pub flat_vertices: Vec<usize>,
-    /// The constant modes, one per piece whose constant the stiffness annihilates.
-    pub constants: Vec<ConstantMode<T>>,
+    /// The modes, by piece: the constant first, then a linear mode if the piece has one.
+    pub modes: Vec<KernelMode<T>>,
+    /// For the pinned form: the orthogonally coupled modes, with the images of the modes of
+    /// one piece orthogonalised in turn (pieces do not share rows of `Q`), so that the least
+    /// squares restoration `x ← x + Σ k'_i (g'_i* r)/(λ |g'_i|²)` of one residual `r` is exact.
+    pub restoration: Vec<Restoration<T>>,
 }
 
 /// How the kernel was found, as reported with a [`super::Spectrum`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct KernelSummary {
-    /// Quaternionic dimension of the exactly known kernel: `flat_vertices + constants`.
+    /// Quaternionic dimension of the exactly known kernel: `flat_vertices + constants +
+    /// linear_functions`.
     pub dimension: usize,
     /// Vertices all of whose faces are flat (`D δ_p = 0`): one kernel dimension each.
     pub flat_vertices: usize,
     /// Connected pieces of the other vertices whose constant function is in the kernel.
     pub constants: usize,
+    /// Pieces on which the linear function `u f2` is in the kernel too (every triangle of the
+    /// second surface `f2` of `D_{f,f2}` parallel to one direction `u`: a planar piece or an
+    /// open prism for `D_f`, vertex normals in one plane for `D_N`).
+    pub linear_functions: usize,
 }
 
 impl<T: Scalar<Real = f64>> ExactKernel<T> {
     /// The kernel of `P x = λ Q x` on `mesh`, with `flat[t]` telling whether face `t`'s row of
-    /// the first-order operator vanishes (all `false` for operators without one).
+    /// the first-order operator vanishes (all `false` for operators without one), and
+    /// candidate linear modes (each on one piece, ascending rows), kept if `P` annihilates them.
     pub fn find(
         mesh: &TriMesh,
         flat: &[bool],
         stiffness: &SparseMatrix<T>,
         coupling: &SparseMatrix<T>,
+        linear: &[SparseVector<T>],
     ) -> Self {
         let n = mesh.vertex_count();
         let mut touches_curved = vec![false; n];
@@ -92,71 +131,113 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         for p in (0..n).filter(|&p| touches_curved[p]) {
             members[pieces.find(p)].push(p);
         }
-        let mut accumulator = Accumulator::new(n);
-        let mut constants = Vec::new();
-        for vertices in members.into_iter().filter(|piece| !piece.is_empty()) {
-            let residue = accumulator.image_of_indicator(stiffness, &vertices);
-            if l1(&residue) > CONSTANT_TOLERANCE * column_mass(stiffness, &vertices) {
-                continue;
+        let mut linear_of_piece: Vec<Option<&SparseVector<T>>> = vec![None; n];
+        for mode in linear {
+            if let Some(&first) = mode.rows.first() {
+                linear_of_piece[pieces.find(first)] = Some(mode);
             }
-            let image = accumulator.image_of_indicator(coupling, &vertices);
-            constants.push(ConstantMode {
-                coupling: classify(coupling, &vertices, &image),
-                image,
-                vertices,
+        }
+        let mut accumulator = Accumulator::new(n);
+        let mut modes = Vec::new();
+        let mut restoration = Vec::new();
+        for (root, vertices) in members.into_iter().enumerate() {
+            let Some(&first) = vertices.first() else {
+                continue;
+            };
+            let constant = SparseVector {
+                values: vec![T::one(); vertices.len()],
+                rows: vertices,
+            };
+            let Some(mode) =
+                accumulator.mode(ModeKind::Constant, constant, first, stiffness, coupling)
+            else {
+                continue;
+            };
+            let linear = linear_of_piece[root].and_then(|k| {
+                let base = k.values[0];
+                let pin = (k.rows.iter().zip(&k.values))
+                    .max_by(|a, b| (*a.1 - base).abs().total_cmp(&(*b.1 - base).abs()))
+                    .filter(|(_, v)| (**v - base).abs() > 0.0)?
+                    .0;
+                accumulator.mode(ModeKind::Linear, k.clone(), *pin, stiffness, coupling)
             });
+            // `k* Q k = 0` for every kernel vector of `D` (`G = sym(Bᵀ M_F D)`), so a linear mode
+            // is never oblique; were it, its compression would not be independent of the
+            // constant's.
+            let linear = linear.filter(|mode| mode.coupling != Coupling::Oblique);
+            let piece: Vec<KernelMode<T>> = std::iter::once(mode).chain(linear).collect();
+            restoration.extend(orthogonalised(&piece, n));
+            modes.extend(piece);
         }
         Self {
             flat_vertices,
-            constants,
+            modes,
+            restoration,
         }
     }
 
     /// Counts for the report.
     pub fn summary(&self) -> KernelSummary {
+        let count = |kind| self.modes.iter().filter(|m| m.kind == kind).count();
+        let (constants, linear_functions) = (count(ModeKind::Constant), count(ModeKind::Linear));
         KernelSummary {
-            dimension: self.flat_vertices.len() + self.constants.len(),
+            dimension: self.flat_vertices.len() + constants + linear_functions,
             flat_vertices: self.flat_vertices.len(),
-            constants: self.constants.len(),
+            constants,
+            linear_functions,
         }
     }
 
-    /// A mass-orthonormal basis of the kernel, in canonical phase (real and positive): the
-    /// constants `𝟙_S / ‖𝟙_S‖_M` first, then `δ_p / √Ā_p` by vertex. At most `count` vectors.
+    /// A mass-orthonormal basis of the kernel: the modes `k / ‖k‖_M` by piece (the constants
+    /// real and positive), then `δ_p / √Ā_p` by vertex. At most `count` vectors.
     pub fn basis(&self, masses: &[f64], count: usize) -> Vec<Vec<T>> {
-        let constants = self.constants.iter().map(|mode| mode.vertices.as_slice());
-        let vertices = self.flat_vertices.iter().map(std::slice::from_ref);
-        constants
-            .chain(vertices)
-            .take(count)
-            .map(|support| {
-                let total: f64 = support.iter().map(|&p| masses[p]).sum();
-                let mut x = vec![T::zero(); masses.len()];
-                support
-                    .iter()
-                    .for_each(|&p| x[p] = T::from_real(1.0 / total.sqrt()));
-                x
-            })
-            .collect()
+        let n = masses.len();
+        let modes = self.modes.iter().map(|mode| {
+            let mut x = mode.vector.to_dense(n);
+            let norm = mass_norm_squared(masses, &mode.vector).sqrt();
+            x.iter_mut().for_each(|v| *v = v.scale(1.0 / norm));
+            x
+        });
+        let vertices = self.flat_vertices.iter().map(|&p| {
+            let mut x = vec![T::zero(); n];
+            x[p] = T::from_real(1.0 / masses[p].sqrt());
+            x
+        });
+        modes.chain(vertices).take(count).collect()
     }
 }
 
-/// The [`Coupling`] of `𝟙_S` through `Q` (`g = Q 𝟙_S`), judged against the size of `Q` on the
-/// piece.
-fn classify<T: Scalar<Real = f64>>(
-    q: &SparseMatrix<T>,
-    support: &[usize],
-    g: &SparseVector<T>,
-) -> Coupling {
-    let reference = CONSTANT_TOLERANCE * column_mass(q, support);
-    let along = sum_over(g, support);
-    if l1(g) <= reference {
-        Coupling::Free
-    } else if along.abs() <= reference {
-        Coupling::Orthogonal
-    } else {
-        Coupling::Oblique
+/// `Σ_p Ā_p |k_p|²`.
+pub(super) fn mass_norm_squared<T: Scalar<Real = f64>>(masses: &[f64], k: &SparseVector<T>) -> f64 {
+    (k.rows.iter().zip(&k.values))
+        .map(|(&p, v)| masses[p] * v.abs2())
+        .sum()
+}
+
+/// The orthogonally coupled modes of one piece with their images orthogonalised in turn
+/// (Gram–Schmidt with coefficients on the right): `k'_i = k_i − Σ_{j<i} k'_j α_j`,
+/// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal.
+fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>], n: usize) -> Vec<Restoration<T>> {
+    let mut done: Vec<(Vec<T>, Vec<T>)> = Vec::new();
+    for mode in piece.iter().filter(|m| m.coupling == Coupling::Orthogonal) {
+        let (mut k, mut g) = (mode.vector.to_dense(n), mode.image.to_dense(n));
+        for (kj, gj) in &done {
+            let alpha = vector::inner(gj, &g).scale(1.0 / vector::real_inner(gj, gj));
+            for (x, y) in k.iter_mut().zip(kj) {
+                *x -= *y * alpha;
+            }
+            for (x, y) in g.iter_mut().zip(gj) {
+                *x -= *y * alpha;
+            }
+        }
+        done.push((k, g));
     }
+    done.iter()
+        .map(|(k, g)| Restoration {
+            vector: SparseVector::from_dense(k),
+            image: SparseVector::from_dense(g),
+        })
+        .collect()
 }
 
 /// `Σ_i |g_i|`.
@@ -164,27 +245,26 @@ fn l1<T: Scalar<Real = f64>>(g: &SparseVector<T>) -> f64 {
     g.values.iter().map(|q| q.abs()).sum()
 }
 
-/// `𝟙_S* g = Σ_{p ∈ S} g_p` (`support` increasing).
-pub(super) fn sum_over<T: Scalar<Real = f64>>(g: &SparseVector<T>, support: &[usize]) -> T {
+/// `k* g` of two sparse vectors (rows increasing).
+pub(super) fn sparse_inner<T: Scalar<Real = f64>>(k: &SparseVector<T>, g: &SparseVector<T>) -> T {
     let mut sum = T::zero();
     let mut position = 0;
     for (&row, &value) in g.rows.iter().zip(&g.values) {
         // Both lists increase: walk them together.
-        while position < support.len() && support[position] < row {
+        while position < k.rows.len() && k.rows[position] < row {
             position += 1;
         }
-        if support.get(position) == Some(&row) {
-            sum += value;
+        if k.rows.get(position) == Some(&row) {
+            sum += k.values[position].conj() * value;
         }
     }
     sum
 }
 
-/// `Σ_{j ∈ S} Σ_i |X_ij|`: the scale of `X 𝟙_S` without cancellation.
-fn column_mass<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, support: &[usize]) -> f64 {
-    support
-        .iter()
-        .map(|&j| x.col(j).1.iter().map(|q| q.abs()).sum::<f64>())
+/// `Σ_j |k_j| Σ_i |X_ij|`: the scale of `X k` without cancellation.
+fn column_mass<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, k: &SparseVector<T>) -> f64 {
+    (k.rows.iter().zip(&k.values))
+        .map(|(&j, v)| v.abs() * x.col(j).1.iter().map(|q| q.abs()).sum::<f64>())
         .sum()
 }
 
@@ -205,16 +285,16 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
         }
     }
 
-    /// `X 𝟙_S = Σ_{j ∈ S} X e_j` (`X` with the accumulator's number of rows).
-    fn image_of_indicator(&mut self, x: &SparseMatrix<T>, support: &[usize]) -> SparseVector<T> {
-        for &j in support {
+    /// `X k = Σ_j X e_j k_j` (`X` with the accumulator's number of rows).
+    fn image(&mut self, x: &SparseMatrix<T>, k: &SparseVector<T>) -> SparseVector<T> {
+        for (&j, &c) in k.rows.iter().zip(&k.values) {
             let (rows, values) = x.col(j);
             for (&i, &v) in rows.iter().zip(values) {
                 if !self.seen[i] {
                     self.seen[i] = true;
                     self.touched.push(i);
                 }
-                self.sums[i] += v;
+                self.sums[i] += v * c;
             }
         }
         self.touched.sort_unstable();
@@ -226,6 +306,37 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
             rows: std::mem::take(&mut self.touched),
             values,
         }
+    }
+
+    /// The mode `k` pinned at `pin` if the stiffness annihilates it, with its coupling.
+    fn mode(
+        &mut self,
+        kind: ModeKind,
+        vector: SparseVector<T>,
+        pin: usize,
+        stiffness: &SparseMatrix<T>,
+        coupling: &SparseMatrix<T>,
+    ) -> Option<KernelMode<T>> {
+        let residue = self.image(stiffness, &vector);
+        if l1(&residue) > MODE_TOLERANCE * column_mass(stiffness, &vector) {
+            return None;
+        }
+        let image = self.image(coupling, &vector);
+        let reference = MODE_TOLERANCE * column_mass(coupling, &vector);
+        let coupling = if l1(&image) <= reference {
+            Coupling::Free
+        } else if sparse_inner(&vector, &image).abs() <= reference {
+            Coupling::Orthogonal
+        } else {
+            Coupling::Oblique
+        };
+        Some(KernelMode {
+            kind,
+            vector,
+            coupling,
+            image,
+            pin,
+        })
     }
 }
 

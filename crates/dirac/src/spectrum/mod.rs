@@ -76,7 +76,7 @@ use thiserror::Error;
 
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, NEARLY_FLAT, flatness_around};
-use pencil::{Matrices, OperatorPencil, PencilSpec};
+use pencil::{Form, Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, products};
 
 use crate::geometry::barycentric_masses;
@@ -771,15 +771,16 @@ pub enum SpectrumError {
     },
     /// A pinned Dirac pencil `D_{f,f2}` whose second surface `f2` (the Gauss map for `D_N`, the
     /// mesh itself for `D_f`, else the reference surface) has a piece on which every triangle
-    /// is parallel to one direction `u` (planar, a prism such as an open tube; for the Gauss map
-    /// a crease between flat parts, a cylinder or a cone): there `D_{f,f2}` annihilates the
-    /// linear function `u f2` (`f2` itself when every triangle is a segment) besides the
-    /// constants, a kernel the solver does not remove.
+    /// is parallel to one direction `u` and some triangles are segments (a straight crease
+    /// between flat parts, a cylinder): there `D_{f,f2}` annihilates the linear function `u f2`
+    /// (`f2` itself when every triangle is a segment) and possibly more besides the constants
+    /// (functions constant along the rulings), a kernel the solver does not remove. (Where no
+    /// triangle is a segment, the kernel is the constants and `u f2`, and it is removed.)
     #[error(
         "the {operator} operator is not solved here: on the piece of vertex {vertex}, {}, where \
-         {} annihilates {} besides the constants, a kernel the solver does not remove; use \
-         --operator family:T (0 < T < 1), whose blend with the Laplacian has only the constants \
-         in its kernel{}",
+         {} annihilates {} and possibly more (functions constant along straight rulings) \
+         besides the constants, a kernel the solver does not remove; use --operator family:T \
+         (0 < T < 1), whose blend with the Laplacian has only the constants in its kernel{}",
         surface.describe(*direction),
         surface.operator(),
         match direction {
@@ -1075,11 +1076,26 @@ fn solve_pencil<T: Scalar<Real = f64>>(
     mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     let masses = barycentric_masses(mesh);
+    let linear = spec.linear.as_ref();
+    // The pinned form needs `P` definite once the known kernel is out: a kernel that may be
+    // larger than the linear functions is an error there (the shifted form finds it as
+    // eigenvalue 0).
+    if let Some(linear) = linear.filter(|_| spec.form == Form::Pinned)
+        && let Some((vertex, direction)) = linear.unremoved
+    {
+        return Err(SpectrumError::ParallelFaces {
+            operator: options.operator,
+            surface: linear.surface,
+            vertex,
+            direction,
+        });
+    }
     let kernel = ExactKernel::find(
         mesh,
         &spec.flat,
         &spec.solved().stiffness,
         &spec.solved().coupling,
+        linear.map_or(&[], |l| &l.modes),
     );
     let listed = if options.include_kernel {
         kernel.summary().dimension.min(options.k)

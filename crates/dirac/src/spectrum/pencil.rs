@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use qscalar::{Quat, Scalar};
-use qsparse::{DisjointSets, SparseCholesky, SparseMatrix, SymbolicCholesky};
+use qsparse::{DisjointSets, SparseCholesky, SparseMatrix, SparseVector, SymbolicCholesky};
 
 use super::kernel::{Reduction, flat_faces, vanishing_faces};
 use super::{Operator, SecondSurface, SpectrumError};
@@ -72,8 +72,28 @@ pub(super) struct PencilSpec<T> {
     pub flat: Vec<bool>,
     /// The Gauss map `N` that decides flatness (relative Dirac operators).
     pub normals: Option<Vec<[f64; 3]>>,
+    /// The linear functions of the second surface the first-order operator annihilates
+    /// (operators built on one).
+    pub linear: Option<LinearKernel<T>>,
     /// How the pencil is solved.
     pub form: Form,
+}
+
+/// The linear functions `u f2` a first-order operator `D_{f,f2}` annihilates besides the
+/// constants, on the pieces where every triangle of `f2` is parallel to one direction `u`
+/// ([`parallel_faces`]; docs/MATH.md, "The exact kernel").
+#[derive(Debug, Clone)]
+pub(super) struct LinearKernel<T> {
+    /// Which surface `f2` is.
+    pub surface: SecondSurface,
+    /// `u (f2 − f̄2)` on each such piece with no triangle a segment, `f̄2` the mass-weighted mean
+    /// over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
+    /// exactly the constants and this function.
+    pub modes: Vec<SparseVector<T>>,
+    /// A piece where some triangles are segments, which may leave more of the kernel than
+    /// `u f2` (functions constant along the rulings of a crease or a cylinder): its smallest
+    /// vertex and `u` (`None`: every triangle a segment). The pinned form stops there.
+    pub unremoved: Option<(usize, Option<[f64; 3]>)>,
 }
 
 /// An operator's pencil over the scalar it is assembled in.
@@ -138,13 +158,8 @@ impl OperatorPencil {
                 return Ok(real(laplacian(modified_dirichlet(mesh, &masses)?)?));
             }
             Operator::Squared => dirac(relative)?.squared(mass(), &masses, potential, mesh),
-            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => {
-                dirac(relative)?.pinned(operator, mesh, relative)?
-            }
-            Operator::ExtrinsicDirac => {
-                let second = SecondImmersion::Positions;
-                dirac(second)?.pinned(operator, mesh, second)?
-            }
+            Operator::RelativeDirac | Operator::Family { tau: 1.0 } => dirac(relative)?.pinned(),
+            Operator::ExtrinsicDirac => dirac(SecondImmersion::Positions)?.pinned(),
             Operator::Family { tau } => {
                 // `L` does not vanish on flat faces: no face is flat for the blend.
                 let first = dirac(relative)?.operator;
@@ -178,6 +193,7 @@ impl OperatorPencil {
                 exact: spec.exact.as_ref().map(Matrices::lifted),
                 flat: spec.flat,
                 normals: spec.normals,
+                linear: None,
                 form: spec.form,
             },
             Self::Quaternionic(spec) => spec,
@@ -193,6 +209,7 @@ impl<T: Scalar<Real = f64>> PencilSpec<T> {
             exact: None,
             flat: vec![false; mesh.face_count()],
             normals: None,
+            linear: None,
             form,
         }
     }
@@ -237,6 +254,7 @@ struct FirstOrder {
     exact: Option<Matrices<Quat<f64>>>,
     flat: Vec<bool>,
     normals: Option<Vec<[f64; 3]>>,
+    linear: LinearKernel<Quat<f64>>,
 }
 
 impl FirstOrder {
@@ -281,11 +299,18 @@ impl FirstOrder {
         } else {
             None
         };
+        let (f2, surface) = match second {
+            SecondImmersion::GaussMap => (normals.as_deref(), SecondSurface::GaussMap),
+            SecondImmersion::Positions => (Some(mesh.positions()), SecondSurface::Mesh),
+            SecondImmersion::Surface(f2) => (Some(f2), SecondSurface::Reference),
+        };
+        let linear = linear_kernel(mesh, f2.unwrap_or_default(), &flat, surface);
         Ok(Self {
             operator: pencil(&d)?,
             exact,
             flat,
             normals,
+            linear,
         })
     }
 
@@ -303,40 +328,20 @@ impl FirstOrder {
             coupling: spec.operator.coupling.clone(),
         });
         (spec.flat, spec.normals) = (self.flat, self.normals);
+        spec.linear = Some(self.linear);
         spec
     }
 
-    /// `A x = λ G x` in pinned form, unless the second surface has a piece whose triangles
-    /// are all parallel to one direction ([`parallel_faces`]): a kernel the pinned form does
-    /// not remove.
-    fn pinned(
-        self,
-        operator: Operator,
-        mesh: &TriMesh,
-        second: SecondImmersion,
-    ) -> Result<PencilSpec<Quat<f64>>, SpectrumError> {
-        let (positions, surface) = match second {
-            SecondImmersion::GaussMap => (self.normals.as_deref(), SecondSurface::GaussMap),
-            SecondImmersion::Positions => (Some(mesh.positions()), SecondSurface::Mesh),
-            SecondImmersion::Surface(f2) => (Some(f2), SecondSurface::Reference),
-        };
-        if let Some((vertex, direction)) =
-            positions.and_then(|f2| parallel_faces(mesh, f2, &self.flat))
-        {
-            return Err(SpectrumError::ParallelFaces {
-                operator,
-                surface,
-                vertex,
-                direction,
-            });
-        }
-        Ok(PencilSpec {
+    /// `A x = λ G x` in pinned form.
+    fn pinned(self) -> PencilSpec<Quat<f64>> {
+        PencilSpec {
             operator: self.operator,
             exact: self.exact,
             flat: self.flat,
             normals: self.normals,
+            linear: Some(self.linear),
             form: Form::Pinned,
-        })
+        }
     }
 }
 
@@ -372,25 +377,33 @@ fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64
 /// `~10⁻¹⁶`, and `10⁻¹³` on sliver faces).
 const PARALLEL_TOLERANCE: f64 = 1e-10;
 
-/// A piece of the mesh (connected through the faces not `skipped`) on which every triangle of
-/// the second surface `f2 = positions` is parallel to one unit direction `u`
-/// (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for the unit normals `n_t` of its triangles that are
-/// not segments): its smallest vertex and `u`, or `None` for `u` if every triangle of the piece
-/// is a segment (parallel to every direction). If there is one.
+/// A piece of the mesh (connected through the faces not skipped) on which every triangle of a
+/// second surface `f2` is parallel to one unit direction.
+#[derive(Debug, Clone, PartialEq)]
+struct ParallelPiece {
+    /// Its vertices, ascending.
+    vertices: Vec<usize>,
+    /// The direction `u` (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for the unit normals `n_t` of its
+    /// triangles that are not segments); `None` if every triangle is a segment (parallel to
+    /// every direction).
+    direction: Option<[f64; 3]>,
+    /// Whether some triangle is a segment.
+    segments: bool,
+}
+
+/// The pieces of the mesh (connected through the faces not `skipped`) on which every triangle
+/// of the second surface `f2 = positions` is parallel to one unit direction `u`, by smallest
+/// vertex.
 ///
 /// On such a piece `D_{f,f2}` annihilates, besides the constants, the linear function `u f2 q`
 /// (`f2` itself if every triangle is a segment): `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u
 /// df2(X)` vanishes when the three vectors lie in one plane, or `df2(X)` and `df2(Y)` on one
 /// line, which they do on every face, and the discrete operator is exact on linear functions.
-/// The pinned form does not remove that kernel. For `f2 = f` a planar piece is parallel to every
-/// direction of its plane, a prism (an open tube of straight rulings, a folded strip) to its
-/// rulings; for the Gauss map `f2 = N` the triangles of normals are segments along a crease
-/// between flat parts and on a cylinder, and parallel to the axis on a cone.
-fn parallel_faces(
-    mesh: &TriMesh,
-    positions: &[[f64; 3]],
-    skipped: &[bool],
-) -> Option<(usize, Option<[f64; 3]>)> {
+/// For `f2 = f` a planar piece is parallel to every direction of its plane, a prism (an open
+/// tube of straight rulings, a folded strip) to its rulings; for the Gauss map `f2 = N` the
+/// triangles of normals are segments along a crease between flat parts and on a cylinder, and
+/// parallel to the axis on a tube whose normals all lie in one plane.
+fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> Vec<ParallelPiece> {
     let n = mesh.vertex_count();
     let faces = || {
         (mesh.faces().iter())
@@ -421,8 +434,11 @@ fn parallel_faces(
     // parallel to it, whose direction is the only candidate unless the piece is planar.
     let mut first: Vec<Option<[f64; 3]>> = vec![None; n];
     let mut widest = vec![[0.0; 3]; n];
+    let mut segments = vec![false; n];
     for (&[a, ..], normal) in faces().zip(&normals) {
-        let (root, Some(normal)) = (pieces.find(a), *normal) else {
+        let root = pieces.find(a);
+        let Some(normal) = *normal else {
+            segments[root] = true;
             continue;
         };
         match first[root] {
@@ -449,17 +465,77 @@ fn parallel_faces(
             })
         })
         .collect();
-    let mut parallel = present.clone();
+    let mut parallel = present;
     for (&[a, ..], normal) in faces().zip(&normals) {
         let root = pieces.find(a);
         if let (Some(u), Some(normal)) = (direction[root], normal) {
             parallel[root] &= dot(u, *normal).abs() <= PARALLEL_TOLERANCE;
         }
     }
-    let (vertex, root) = (0..n)
-        .map(|v| (v, pieces.find(v)))
-        .find(|&(_, root)| parallel[root])?;
-    Some((vertex, direction[root].map(canonical_direction)))
+    let mut found: Vec<Option<ParallelPiece>> = vec![None; n];
+    let mut order = Vec::new();
+    for v in 0..n {
+        let root = pieces.find(v);
+        if !parallel[root] {
+            continue;
+        }
+        let piece = found[root].get_or_insert_with(|| {
+            order.push(root);
+            ParallelPiece {
+                vertices: Vec::new(),
+                direction: direction[root].map(canonical_direction),
+                segments: segments[root],
+            }
+        });
+        piece.vertices.push(v);
+    }
+    order
+        .into_iter()
+        .filter_map(|root| found[root].take())
+        .collect()
+}
+
+/// The [`LinearKernel`] of `D_{f,f2}` with `f2 = positions` (empty when there is none), the
+/// rows of the `skipped` faces vanishing.
+fn linear_kernel(
+    mesh: &TriMesh,
+    positions: &[[f64; 3]],
+    skipped: &[bool],
+    surface: SecondSurface,
+) -> LinearKernel<Quat<f64>> {
+    let mut linear = LinearKernel {
+        surface,
+        modes: Vec::new(),
+        unremoved: None,
+    };
+    if positions.is_empty() {
+        return linear;
+    }
+    let masses = barycentric_masses(mesh);
+    for piece in parallel_faces(mesh, positions, skipped) {
+        let (Some(u), false) = (piece.direction, piece.segments) else {
+            linear
+                .unremoved
+                .get_or_insert((piece.vertices[0], piece.direction));
+            continue;
+        };
+        let total: f64 = piece.vertices.iter().map(|&p| masses[p]).sum();
+        let mean: [f64; 3] = std::array::from_fn(|c| {
+            (piece.vertices.iter())
+                .map(|&p| masses[p] * positions[p][c])
+                .sum::<f64>()
+                / total
+        });
+        let u = Quat::from_vector(u);
+        let values = (piece.vertices.iter())
+            .map(|&p| u * Quat::from_vector(sub(positions[p], mean)))
+            .collect();
+        linear.modes.push(SparseVector {
+            rows: piece.vertices,
+            values,
+        });
+    }
+    linear
 }
 
 /// `±u` with its largest component positive and rounding-sized ones zero: the direction as a
@@ -586,26 +662,42 @@ mod tests {
     fn parallel_faces_finds_planes_segments_and_nothing_on_a_sphere() {
         let plane = grid(3, 2, 1.0, 1.0).unwrap();
         let none = vec![false; plane.face_count()];
-        let (vertex, direction) = parallel_faces(&plane, plane.positions(), &none).unwrap();
-        let direction = direction.unwrap();
-        assert_eq!(vertex, 0);
+        let found = parallel_faces(&plane, plane.positions(), &none);
+        assert_eq!(found.len(), 1);
+        let direction = found[0].direction.unwrap();
+        assert_eq!(
+            found[0].vertices,
+            (0..plane.vertex_count()).collect::<Vec<_>>()
+        );
+        assert!(!found[0].segments);
         assert!(direction[2] == 0.0 && (norm(direction) - 1.0).abs() < 1e-15);
 
         // A second surface on one line: every triangle is a segment, parallel to everything.
         let line: Vec<[f64; 3]> = (0..plane.vertex_count())
             .map(|v| [v as f64, 2.0 * v as f64, 0.5])
             .collect();
-        assert_eq!(parallel_faces(&plane, &line, &none), Some((0, None)));
+        let found = parallel_faces(&plane, &line, &none);
+        assert_eq!((found[0].direction, found[0].segments), (None, true));
 
         let sphere = icosphere(1);
         let none = vec![false; sphere.face_count()];
-        assert_eq!(parallel_faces(&sphere, sphere.positions(), &none), None);
-        // With all but one face skipped, that face alone is a planar piece; the vertices of
-        // skipped faces only are in no piece.
+        assert_eq!(parallel_faces(&sphere, sphere.positions(), &none), vec![]);
+        // With all but two faces far apart skipped, each is a planar piece of its own; the
+        // vertices of skipped faces only are in none.
         let mut skipped = vec![true; sphere.face_count()];
-        skipped[7] = false;
-        let smallest = *sphere.faces()[7].iter().min().unwrap();
+        let far = (1..sphere.face_count())
+            .find(|&t| {
+                sphere.faces()[t]
+                    .iter()
+                    .all(|v| !sphere.faces()[0].contains(v))
+            })
+            .unwrap();
+        (skipped[0], skipped[far]) = (false, false);
+        let mut want = vec![sphere.faces()[0].to_vec(), sphere.faces()[far].to_vec()];
+        want.iter_mut().for_each(|v| v.sort_unstable());
+        want.sort();
         let found = parallel_faces(&sphere, sphere.positions(), &skipped);
-        assert_eq!(found.map(|(v, _)| v), Some(smallest));
+        let got: Vec<Vec<usize>> = found.into_iter().map(|p| p.vertices).collect();
+        assert_eq!(got, want);
     }
 }

@@ -7,7 +7,9 @@ use qeig::{
 use qscalar::Scalar;
 use qsparse::{CholeskyError, SparseMatrix, SparseVector, threads, vector};
 
-use super::kernel::{ConstantMode, Coupling, ExactKernel, Reduction, sum_over};
+use super::kernel::{
+    Coupling, ExactKernel, KernelMode, Reduction, Restoration, mass_norm_squared, sparse_inner,
+};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
@@ -103,13 +105,14 @@ pub(super) fn solve<T: Scalar<Real = f64>>(
     // Pair by pair, on two threads: each pair costs a few sparse products.
     let each = pairs.vectors.iter_mut().zip(&mut pairs.values).collect();
     threads::map_on_two_threads(each, |(x, lambda): (&mut Vec<T>, &mut f64)| {
-        for mode in &kernel.constants {
+        if form == Form::Pinned && !kernel.restoration.is_empty() {
+            restore_modes(matrices, &kernel.restoration, *lambda, x);
+        }
+        for mode in &kernel.modes {
             match (form, mode.coupling) {
-                (Form::Pinned, Coupling::Orthogonal) => {
-                    restore_constant(matrices, mode, *lambda, x)
-                }
+                (Form::Pinned, Coupling::Orthogonal) => {}
                 (Form::Pinned, Coupling::Oblique) => project_oblique(mode, x),
-                _ => remove_mass_mean(masses, &mode.vertices, x),
+                _ => remove_mass_component(masses, &mode.vector, x),
             }
         }
         if form == Form::Pinned {
@@ -136,12 +139,13 @@ pub(super) fn products<T: Scalar<Real = f64>>(m: &Matrices<T>, x: &[T]) -> (Vec<
 }
 
 /// The reduced problem of each form (docs/MATH.md, "The exact kernel"):
-/// * shifted: `Q y = μ (P + εQ) y` without the flat vertices, `(Q 𝟙_S)* y = 0`;
-/// * pinned: `Q' y = μ P y` without the flat vertices and one vertex of every constant piece
-///   (the constant is then outside the space, so `P` is definite there), with per constant mode
-///   `g = Q 𝟙_S`: nothing if it is free, the constraint `g* y = 0` if it is orthogonal, and if
-///   it is oblique the compression `Q' = Q − g g*/(𝟙_S* g)` of `Q` by the projection
-///   `x = y − 𝟙_S (g* y)/(𝟙_S* g)` onto `{g* x = 0}` (exact: `P x = P y`);
+/// * shifted: `Q y = μ (P + εQ) y` without the flat vertices, `(Q k)* y = 0` per mode `k`;
+/// * pinned: `Q' y = μ P y` without the flat vertices and the pin of every mode (one vertex of
+///   each piece for its constant, another for its linear function: the modes are then outside
+///   the space, so `P` is definite there), with per mode `g = Q k`: nothing if it is free, the
+///   constraint `g* y = 0` if it is orthogonal, and if it is oblique the compression
+///   `Q' = Q − g g*/(k* g)` of `Q` by the projection `x = y − k (g* y)/(k* g)` onto
+///   `{g* x = 0}` (exact: `P x = P y`);
 /// * literal: `M y = μ (P + σM) y`, constrained like the shifted form (`(M 𝟙_S)* y = 0` for
 ///   each constant `P` annihilates: `G 𝟙 = 0` on a closed piece).
 pub(super) fn reduce<T: Scalar<Real = f64>>(
@@ -151,7 +155,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
     masses: &[f64],
 ) -> Result<Reduced<T>, SpectrumError> {
     let flat = kernel.flat_vertices.iter().copied();
-    let pins = kernel.constants.iter().map(|c| c.vertices[0]);
+    let pins = kernel.modes.iter().map(|mode| mode.pin);
     let reduction = match form {
         Form::Pinned => Reduction::without(masses, flat.chain(pins)),
         Form::Shifted { .. } | Form::Literal { .. } => Reduction::without(masses, flat),
@@ -159,7 +163,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
     // The constraints' columns, in CSC arrays.
     let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::new());
     let mut low_rank = Vec::new();
-    for mode in &kernel.constants {
+    for mode in &kernel.modes {
         let g = &mode.image;
         match (form, mode.coupling) {
             (Form::Pinned, Coupling::Free) => {}
@@ -171,7 +175,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
                 col_ptr.push(row_idx.len());
             }
             (Form::Pinned, Coupling::Oblique) => {
-                let along = indicator_inner(&mode.vertices, g);
+                let along = sparse_inner(&mode.vector, g).re();
                 low_rank.push((reduction.functional(g), 1.0 / along));
             }
         }
@@ -197,19 +201,12 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
     })
 }
 
-/// `Re(𝟙_S* g)`.
-fn indicator_inner<T: Scalar<Real = f64>>(support: &[usize], g: &SparseVector<T>) -> f64 {
-    sum_over(g, support).re()
-}
-
-/// `x ← x − 𝟙_S (g* x)/(𝟙_S* g)`, `g = Q 𝟙_S`: the eigenvector of an oblique constant mode
-/// from the pinned one.
-fn project_oblique<T: Scalar<Real = f64>>(mode: &ConstantMode<T>, x: &mut [T]) {
-    let c = mode
-        .image
-        .inner(x)
-        .scale(1.0 / indicator_inner(&mode.vertices, &mode.image));
-    mode.vertices.iter().for_each(|&p| x[p] -= c);
+/// `x ← x − k (g* x)/(k* g)`, `g = Q k`: the eigenvector of an oblique mode from the pinned
+/// one.
+fn project_oblique<T: Scalar<Real = f64>>(mode: &KernelMode<T>, x: &mut [T]) {
+    let along = sparse_inner(&mode.vector, &mode.image).re();
+    let c = mode.image.inner(x).scale(1.0 / along);
+    mode.vector.add_to(x, -c);
 }
 
 /// The eigenvalues `μ` of the reduced pencil mapped to `λ` by `to_lambda(μ, y)`, with full
@@ -329,19 +326,22 @@ fn run<T: Scalar<Real = f64>>(
     }
 }
 
-/// `x ← x + 𝟙_S c` with `c = ⟨g, P x − λ Q x⟩ / (λ ⟨g, g⟩)`, `g = Q 𝟙_S`: the constant
-/// component on a coupled piece that makes `x` satisfy `P x = λ Q x` when it was solved with
-/// that component pinned to zero (least squares; exact when the rest is exact).
-fn restore_constant<T: Scalar<Real = f64>>(
+/// `x ← x + Σ_i k'_i c_i` with `c_i = ⟨g'_i, r⟩ / (λ ⟨g'_i, g'_i⟩)`, `r = P x − λ Q x`: the
+/// components along the orthogonally coupled modes that make `x` satisfy `P x = λ Q x` when it
+/// was solved with them pinned to zero (least squares, exact when the rest is exact; the
+/// images `g'_i` are orthogonal, so one residual serves every mode, `P k'_i = 0` leaving it
+/// unchanged but for `λ g'_i c_i`).
+fn restore_modes<T: Scalar<Real = f64>>(
     m: &Matrices<T>,
-    mode: &ConstantMode<T>,
+    modes: &[Restoration<T>],
     lambda: f64,
     x: &mut [T],
 ) {
-    let g = &mode.image;
     let residual = pencil_residual_vector(m, lambda, x);
-    let c = g.inner(&residual).scale(1.0 / (lambda * g.norm_squared()));
-    mode.vertices.iter().for_each(|&p| x[p] += c);
+    for mode in modes {
+        let c = (mode.image.inner(&residual)).scale(1.0 / (lambda * mode.image.norm_squared()));
+        mode.vector.add_to(x, c);
+    }
 }
 
 /// `P x − λ Q x`.
@@ -351,10 +351,11 @@ fn pencil_residual_vector<T: Scalar<Real = f64>>(m: &Matrices<T>, lambda: f64, x
     px
 }
 
-/// `x ← x − 𝟙_S ⟨𝟙_S, x⟩_M / ⟨𝟙_S, 𝟙_S⟩_M`: the mass-orthogonal representative modulo the
-/// constant of a piece.
-fn remove_mass_mean<T: Scalar<Real = f64>>(masses: &[f64], support: &[usize], x: &mut [T]) {
-    let total: f64 = support.iter().map(|&p| masses[p]).sum();
-    let mean = (support.iter().map(|&p| x[p].scale(masses[p])).sum::<T>()).scale(1.0 / total);
-    support.iter().for_each(|&p| x[p] -= mean);
+/// `x ← x − k ⟨k, x⟩_M / ⟨k, k⟩_M`: the mass-orthogonal representative modulo a mode (the
+/// modes of one piece are mass-orthogonal to each other, so one after the other is exact).
+fn remove_mass_component<T: Scalar<Real = f64>>(masses: &[f64], k: &SparseVector<T>, x: &mut [T]) {
+    let along: T = (k.rows.iter().zip(&k.values))
+        .map(|(&p, v)| (v.conj() * x[p]).scale(masses[p]))
+        .sum();
+    k.add_to(x, -along.scale(1.0 / mass_norm_squared(masses, k)));
 }

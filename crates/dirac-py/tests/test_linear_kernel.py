@@ -1,0 +1,76 @@
+"""Pieces on which every face is parallel to one direction ``u`` (a plane, an open prism): the
+extrinsic Dirac operator ``D_f`` annihilates the linear function ``u f`` there besides the
+constants. The package removes it like the constants; its spectrum is checked against a dense
+scipy solve of the same pencil whose kernel is found numerically, knowing nothing of pieces,
+directions or linear functions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import dirac_spectra as ds
+from conftest import grid
+
+
+def dense_reference(V: np.ndarray, F: np.ndarray, operator: str) -> tuple[int, np.ndarray]:
+    """``(dim ker P, the nonzero λ of P x = λ Q x)`` in the real ``4n × 4n`` form, each
+    quaternionic eigenvalue 4 times. The kernel ``K`` of ``P`` is where its eigenvalues are
+    below ``10⁻¹⁰`` of the largest; every eigenvector with ``λ ≠ 0`` is ``y + K c`` with ``y``
+    orthogonal to ``K`` and ``Q K`` (``(Q K)ᵀ x = 0`` and ``Kᵀ Q K = 0``), where ``P`` is
+    definite, so ``λ = 1/μ`` of the compressed pencil ``Zᵀ Q Z = μ Zᵀ P Z``."""
+    P, Q, _ = ds.operator_matrices(V, F, operator)
+    P, Q = P.toarray(), Q.toarray()
+    w, U = np.linalg.eigh(P)
+    K = U[:, w < 1e-10 * w.max()]
+    u, s, _ = np.linalg.svd(np.hstack([K, Q @ K]), full_matrices=True)
+    Z = u[:, (s > 1e-10 * s.max()).sum() :]
+    mu = scipy.linalg.eigh(Z.T @ Q @ Z, Z.T @ P @ Z, eigvals_only=True)
+    return K.shape[1] // 4, 1 / mu[np.abs(mu) > 1e-12 * np.abs(mu).max()]
+
+
+def by_magnitude(values: np.ndarray) -> np.ndarray:
+    """Sorted by |λ| (to 8 digits, so that ±λ stay together), then by λ."""
+    return values[np.lexsort((values, np.round(np.abs(values), 8)))]
+
+
+def tube(segments: int, rings: int, flare: float) -> tuple[np.ndarray, np.ndarray]:
+    """An open tube around the z axis of radius ``1 + flare z²``: a prism for ``flare = 0``."""
+    angle = 2 * np.pi * np.arange(segments) / segments
+    V = np.array(
+        [
+            [(1 + flare * z * z) * np.cos(a), (1 + flare * z * z) * np.sin(a), z]
+            for z in 0.5 * np.arange(rings)
+            for a in angle
+        ]
+    )
+    F = []
+    for j in range(rings - 1):
+        for i in range(segments):
+            a, b = j * segments + i, j * segments + (i + 1) % segments
+            F += [[a, b, b + segments], [a, b + segments, a + segments]]
+    return V, np.array(F)
+
+
+@pytest.mark.parametrize(
+    "name, mesh, kernel",
+    [
+        ("plane", grid(6, 5), 2),
+        ("open prism", tube(6, 5, 0.0), 2),
+        ("flared tube", tube(6, 5, 0.3), 1),
+    ],
+)
+def test_the_extrinsic_dirac_spectrum_matches_scipy(name, mesh, kernel):
+    V, F = mesh
+    k = 8
+    got = ds.spectrum(V, F, k=k, operator="extrinsic-dirac")
+    dimension, reference = dense_reference(V, F, "extrinsic-dirac")
+    assert dimension == kernel == got.kernel_dimension, name
+    assert got.kernel_linear_functions == kernel - 1
+    np.testing.assert_allclose(
+        by_magnitude(np.repeat(got.eigenvalues, 4)),
+        by_magnitude(reference)[: 4 * k],
+        rtol=1e-9,
+        err_msg=name,
+    )
