@@ -364,10 +364,20 @@ fn the_kernel_is_reported_listed_on_request_and_a_plane_is_explained() {
         "{message}"
     );
     // D_f on the plane annihilates a linear function besides the constant, and says so.
-    let extrinsic = ["spectrum", text(&path), "--operator", "extrinsic-dirac", "-k", "3"];
+    let extrinsic = [
+        "spectrum",
+        text(&path),
+        "--operator",
+        "extrinsic-dirac",
+        "-k",
+        "3",
+    ];
     let report = json(&dirac(&[&extrinsic[..], &["--json", "-q"]].concat()));
     assert_eq!(report["kernel_dimension"], 2);
     assert_eq!(report["kernel"]["linear_functions"], 1);
     let table = String::from_utf8(dirac(&extrinsic).stdout).unwrap();
-    assert!(table.contains("+ 1 constant + 1 linear function;"), "{table}");
+    assert!(
+        table.contains("+ 1 constant + 1 linear function;"),
+        "{table}"
+    );
 }

@@ -325,7 +325,10 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
     };
     let linear = match kernel.linear_functions {
         0 => String::new(),
-        count => format!(" + {}", plural(count, "linear function", "linear functions")),
+        count => format!(
+            " + {}",
+            plural(count, "linear function", "linear functions")
+        ),
     };
     writeln!(
         out,

@@ -221,6 +221,7 @@ fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>], n: usize) -> V
     let mut done: Vec<(Vec<T>, Vec<T>)> = Vec::new();
     for mode in piece.iter().filter(|m| m.coupling == Coupling::Orthogonal) {
         let (mut k, mut g) = (mode.vector.to_dense(n), mode.image.to_dense(n));
+        let before = vector::norm(&g);
         for (kj, gj) in &done {
             let alpha = vector::inner(gj, &g).scale(1.0 / vector::real_inner(gj, gj));
             for (x, y) in k.iter_mut().zip(kj) {
@@ -230,7 +231,11 @@ fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>], n: usize) -> V
                 *x -= *y * alpha;
             }
         }
-        done.push((k, g));
+        // An image in the span of the earlier ones: `k'` is in `ker P ∩ ker Q`, free, and
+        // nothing is restored along it (its constraint is dependent too, and dropped).
+        if vector::norm(&g) > 1e-8 * before {
+            done.push((k, g));
+        }
     }
     done.iter()
         .map(|(k, g)| Restoration {

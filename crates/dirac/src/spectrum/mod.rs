@@ -7,8 +7,8 @@
 //! | Laplace | `L x = λ M x` (`L⊗I`) | `M x = μ (L + εM) x`, `λ = 1/μ − ε` | constants of each component | yes |
 //! | modified Dirichlet `Δ + U` | `(L + M diag(U)) x = λ M x` | as Laplace | constants where `U = 0` | yes |
 //! | anisotropic Laplace `Δ_A`, `α ≥ 0` | `K_α x = λ M x` | as Laplace | constants of each component | yes |
-//! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants | no |
-//! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y` (pinned), `λ = x*Ax / x*Gx` | flat vertices, constants | no |
+//! | squared `D_N* D_N` | `A x = ν M x` | as Laplace | flat vertices, constants, linear functions of parallel pieces | no |
+//! | relative / extrinsic Dirac | `A x = λ G x` | `G y = μ A y` (pinned), `λ = x*Ax / x*Gx` | flat vertices, constants, linear functions of parallel pieces | no |
 //! | family `L(τ)`, blended, `0 < τ < 1` | `A_τ x = λ B_τ x` | as Dirac | constants | yes |
 //! | family, literal | `K(τ) x = λ M x`, `K(τ) = (1−τ)L + τG` | `M x = μ (K + σM) x`, `λ = 1/μ − σ` | constants that `K(τ)` annihilates (closed pieces) | yes |
 //!
@@ -44,9 +44,14 @@
 //! (Rayleigh form; `P` is then positive definite, no regularisation) or constrained away by
 //! `(M 𝟙_S)* x = 0` (shifted form), and where `Q 𝟙_S ≠ 0` (a boundary, or the mass term of the
 //! blend) the eigenvectors satisfy `(Q 𝟙_S)* x = 0`, imposed as a constraint, with the
-//! constant component restored afterwards. [`Spectrum::kernel`] reports what was found;
+//! constant component restored afterwards. On a piece where every triangle of the second surface
+//! `f2` is parallel to one direction `u` (a plane or an open prism for `D_f`), the linear
+//! function `u f2` is in the kernel too and is removed the same way (a second pin); where some
+//! of those triangles are segments the kernel can be larger, and the pinned form stops with
+//! [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
 //! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
-//! with a mass-orthonormal basis (constants first, then `δ_p / √Ā_p`).
+//! with a mass-orthonormal basis (constants first, each followed by its piece's linear function
+//! if it has one, then `δ_p / √Ā_p`).
 //!
 //! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, then by `λ`
 //! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`,
