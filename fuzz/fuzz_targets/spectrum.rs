@@ -1,6 +1,7 @@
 //! Fuzz target: small meshes with arbitrary geometry (perturbed icosphere or grid, faces
 //! possibly dropped, or arbitrary triangles) → mesh validation → every operator's spectrum
-//! with arbitrary `k`, `τ`, tolerance, restart limit, normalisation and potential well →
+//! with arbitrary `k`, `τ`, tolerance, restart limit, normalisation and potential well, alone
+//! or relative to a flattened or sheared copy →
 //! the descriptors of whatever converged. Every step must return a value or a typed error,
 //! never panic: this is the path a user's mesh file and command-line options take.
 
@@ -11,7 +12,9 @@ use dirac::descriptors::{
     wave_kernel_signature,
 };
 use dirac::generators::{grid, icosphere};
-use dirac::spectrum::{Normalization, Operator, SpectrumError, SpectrumOptions, spectrum};
+use dirac::spectrum::{
+    Normalization, Operator, SpectrumError, SpectrumOptions, relative_spectrum, spectrum,
+};
 use dirac::well::PotentialWell;
 use dirac::{TriMesh, operators};
 use libfuzzer_sys::arbitrary::{Result, Unstructured};
@@ -133,7 +136,23 @@ fn run(u: &mut Unstructured) -> Result<()> {
             height: real(u)?,
         });
     }
-    let result = match spectrum(&mesh, &options) {
+    // Sometimes relative to a second surface of the same faces: the mesh flattened onto a
+    // coordinate plane (a planar reference: a linear function in the kernel) or moved.
+    // (Zero bytes, the end of the input, mean no reference: older inputs keep their meaning.)
+    let reference = match u.int_in_range(0..=3u8)? {
+        2 => mesh.map_positions(|[x, y, _]| [x, y, 0.0]).ok(),
+        3 => {
+            let shift = real(u)?;
+            mesh.map_positions(|[x, y, z]| [x + shift * y, y, z * shift])
+                .ok()
+        }
+        _ => None,
+    };
+    let solved = match &reference {
+        Some(reference) => relative_spectrum(&mesh, reference, &options),
+        None => spectrum(&mesh, &options),
+    };
+    let result = match solved {
         Ok(spectrum) => spectrum,
         Err(SpectrumError::NotConverged { partial, .. }) => *partial,
         Err(_) => return Ok(()),

@@ -647,7 +647,8 @@ fn the_extrinsic_dirac_spectrum_of_a_plane_or_prism_removes_the_linear_function(
 
 /// Relative to a planar reference `B` (a surface against its flattening), `D_{f,B}` annihilates
 /// `u B` for `u` in the plane: the relative Dirac spectrum removes it and matches the dense
-/// reference of the same pencil; the family at `τ = 1` is the same pencil.
+/// reference of the same pencil; the family at `τ = 1` is the same pencil; the squared operator
+/// removes it from its kernel too (in shifted form) and matches a dense solve of `A x = ν M x`.
 #[test]
 fn the_relative_spectrum_against_a_planar_reference_removes_the_linear_function() {
     let flat = grid(6, 5, 2.0, 1.5).unwrap();
@@ -665,6 +666,25 @@ fn the_relative_spectrum_against_a_planar_reference_removes_the_linear_function(
         assert_eq!(got.kernel.linear_functions, 1);
         assert_matches(&got.eigenvalues, &reference, "D_(f,B)");
     }
+    // The square `A x = ν M x`: its nonzero eigenvalues from a dense solve, the kernel being
+    // the eigenvalues at most `10⁻⁹` of the largest.
+    let mass = DenseMatrix::from_fn(masses.len(), masses.len(), |i, j| {
+        Quat::from_real(if i == j { masses[i] } else { 0.0 })
+    });
+    let mut dense = DenseMatrix::zeros(masses.len(), masses.len());
+    for (i, j, v) in pencil.stiffness.triplets() {
+        dense.col_mut(j)[i] = v;
+    }
+    let nu = qeig::dense::generalized_hermitian_eigen(&dense, &mass)
+        .unwrap()
+        .values;
+    let top = nu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let nonzero: Vec<f64> = nu.into_iter().filter(|v| *v > 1e-9 * top).collect();
+    assert_eq!(masses.len() - nonzero.len(), 2);
+    let got =
+        relative_spectrum(&bumped, &flat, &SpectrumOptions::new(Operator::Squared, 10)).unwrap();
+    assert_eq!((got.kernel.dimension, got.kernel.linear_functions), (2, 1));
+    assert_matches(&got.eigenvalues, &nonzero, "D_(f,B)* D_(f,B)");
 }
 
 /// Listed on request, the kernel of `D_f` on a plane is the constant and the linear function,

@@ -161,10 +161,9 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
                     .0;
                 accumulator.mode(ModeKind::Linear, k.clone(), *pin, stiffness, coupling)
             });
-            // `k* Q k = 0` for every kernel vector of `D` (`G = sym(Bᵀ M_F D)`), so a linear mode
-            // is never oblique; were it, its compression would not be independent of the
-            // constant's.
-            let linear = linear.filter(|mode| mode.coupling != Coupling::Oblique);
+            // Against `G = sym(Bᵀ M_F D)` a linear mode is free or orthogonal (`k* G k = 0` for
+            // every kernel vector of `D`), so the pinned form never compresses two modes of one
+            // piece; against the mass (shifted form) it is oblique, and only constrained.
             let piece: Vec<KernelMode<T>> = std::iter::once(mode).chain(linear).collect();
             restoration.extend(orthogonalised(&piece, n));
             modes.extend(piece);
