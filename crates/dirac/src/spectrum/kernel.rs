@@ -144,22 +144,35 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             let Some(&first) = vertices.first() else {
                 continue;
             };
-            let constant = SparseVector {
+            let vector = SparseVector {
                 values: vec![T::one(); vertices.len()],
                 rows: vertices,
             };
-            let Some(mode) =
-                accumulator.mode(ModeKind::Constant, constant, first, stiffness, coupling)
-            else {
+            let Some(mode) = kernel_mode(
+                &mut accumulator,
+                ModeKind::Constant,
+                vector,
+                first,
+                stiffness,
+                coupling,
+            ) else {
                 continue;
             };
             let linear = linear_of_piece[root].and_then(|k| {
+                // `k` starts at the piece's first vertex, the constant's pin.
                 let base = k.values[0];
                 let pin = (k.rows.iter().zip(&k.values))
                     .max_by(|a, b| (*a.1 - base).abs().total_cmp(&(*b.1 - base).abs()))
                     .filter(|(_, v)| (**v - base).abs() > 0.0)?
                     .0;
-                accumulator.mode(ModeKind::Linear, k.clone(), *pin, stiffness, coupling)
+                kernel_mode(
+                    &mut accumulator,
+                    ModeKind::Linear,
+                    k.clone(),
+                    *pin,
+                    stiffness,
+                    coupling,
+                )
             });
             // Against `G = sym(Bᵀ M_F D)` a linear mode is free or orthogonal (`k* G k = 0` for
             // every kernel vector of `D`), so the pinned form never compresses two modes of one
@@ -311,37 +324,37 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
             values,
         }
     }
+}
 
-    /// The mode `k` pinned at `pin` if the stiffness annihilates it, with its coupling.
-    fn mode(
-        &mut self,
-        kind: ModeKind,
-        vector: SparseVector<T>,
-        pin: usize,
-        stiffness: &SparseMatrix<T>,
-        coupling: &SparseMatrix<T>,
-    ) -> Option<KernelMode<T>> {
-        let residue = self.image(stiffness, &vector);
-        if l1(&residue) > MODE_TOLERANCE * column_mass(stiffness, &vector) {
-            return None;
-        }
-        let image = self.image(coupling, &vector);
-        let reference = MODE_TOLERANCE * column_mass(coupling, &vector);
-        let coupling = if l1(&image) <= reference {
-            Coupling::Free
-        } else if sparse_inner(&vector, &image).abs() <= reference {
-            Coupling::Orthogonal
-        } else {
-            Coupling::Oblique
-        };
-        Some(KernelMode {
-            kind,
-            vector,
-            coupling,
-            image,
-            pin,
-        })
+/// The mode `k` pinned at `pin` if the stiffness annihilates it, with its [`Coupling`].
+fn kernel_mode<T: Scalar<Real = f64>>(
+    accumulator: &mut Accumulator<T>,
+    kind: ModeKind,
+    vector: SparseVector<T>,
+    pin: usize,
+    stiffness: &SparseMatrix<T>,
+    coupling: &SparseMatrix<T>,
+) -> Option<KernelMode<T>> {
+    let residue = accumulator.image(stiffness, &vector);
+    if l1(&residue) > MODE_TOLERANCE * column_mass(stiffness, &vector) {
+        return None;
     }
+    let image = accumulator.image(coupling, &vector);
+    let reference = MODE_TOLERANCE * column_mass(coupling, &vector);
+    let coupling = if l1(&image) <= reference {
+        Coupling::Free
+    } else if sparse_inner(&vector, &image).abs() <= reference {
+        Coupling::Orthogonal
+    } else {
+        Coupling::Oblique
+    };
+    Some(KernelMode {
+        kind,
+        vector,
+        coupling,
+        image,
+        pin,
+    })
 }
 
 /// The vertices kept in a reduced problem, in mass-scaled coordinates `z = M^{1/2} y`, and the

@@ -145,8 +145,9 @@ impl OperatorPencil {
         };
         let mass = || quaternionic(&real_mass());
         let relative = reference.map_or(SecondImmersion::GaussMap, SecondImmersion::Surface);
-        let dirac =
-            |second: SecondImmersion| FirstOrder::assemble(mesh, second, potential, flat_tolerance);
+        let dirac = |second: SecondImmersion| {
+            FirstOrder::assemble(mesh, &masses, second, potential, flat_tolerance)
+        };
         let spec = match operator {
             Operator::Laplace | Operator::Family { tau: 0.0 } => {
                 return Ok(real(laplacian(cotan_laplacian(mesh))?));
@@ -260,6 +261,7 @@ struct FirstOrder {
 impl FirstOrder {
     fn assemble(
         mesh: &TriMesh,
+        masses: &[f64],
         second: SecondImmersion,
         potential: Option<&[f64]>,
         flat_tolerance: f64,
@@ -304,7 +306,7 @@ impl FirstOrder {
             SecondImmersion::Positions => (Some(mesh.positions()), SecondSurface::Mesh),
             SecondImmersion::Surface(f2) => (Some(f2), SecondSurface::Reference),
         };
-        let linear = linear_kernel(mesh, f2.unwrap_or_default(), &flat, surface);
+        let linear = linear_kernel(mesh, masses, f2.unwrap_or_default(), &flat, surface);
         Ok(Self {
             operator: pencil(&d)?,
             exact,
@@ -496,9 +498,10 @@ fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> V
 }
 
 /// The [`LinearKernel`] of `D_{f,f2}` with `f2 = positions` (empty when there is none), the
-/// rows of the `skipped` faces vanishing.
+/// rows of the `skipped` faces vanishing, `masses` the vertex masses of the mesh.
 fn linear_kernel(
     mesh: &TriMesh,
+    masses: &[f64],
     positions: &[[f64; 3]],
     skipped: &[bool],
     surface: SecondSurface,
@@ -511,7 +514,6 @@ fn linear_kernel(
     if positions.is_empty() {
         return linear;
     }
-    let masses = barycentric_masses(mesh);
     for piece in parallel_faces(mesh, positions, skipped) {
         let (Some(u), false) = (piece.direction, piece.segments) else {
             linear
