@@ -53,10 +53,18 @@ def tube(segments: int, rings: int, flare: float) -> tuple[np.ndarray, np.ndarra
     return V, np.array(F)
 
 
+def warped_grid() -> tuple[np.ndarray, np.ndarray]:
+    """The grid moved within its plane, irregularly."""
+    V, F = grid(6, 5)
+    V = V + np.stack([0.3 * V[:, 1] ** 2, 0.1 * V[:, 0] * V[:, 1], 0 * V[:, 0]], axis=1)
+    return V, F
+
+
 @pytest.mark.parametrize(
     "name, mesh, kernel",
     [
         ("plane", grid(6, 5), 2),
+        ("warped plane", warped_grid(), 2),
         ("open prism", tube(6, 5, 0.0), 2),
         ("flared tube", tube(6, 5, 0.3), 1),
     ],

@@ -629,8 +629,14 @@ fn the_extrinsic_dirac_spectrum_of_a_plane_or_prism_removes_the_linear_function(
     let rotation = Quat::new(0.8, 0.2, -0.4, 0.4);
     let rotation = rotation.scale(1.0 / rotation.abs());
     let plane = grid(6, 5, 2.0, 1.5).unwrap().rotated(rotation).unwrap();
+    // Warped within its plane: the images `G 𝟙` and `G u f` are no longer orthogonal (they
+    // are on the regular grid), so the restoration must orthogonalise them.
+    let warped = grid(6, 5, 2.0, 1.5)
+        .unwrap()
+        .map_positions(|[x, y, z]| [x + 0.3 * y * y, y + 0.1 * x * y, z])
+        .unwrap();
     let prism = dirac::generators::cylinder(6, 5, 2.0).unwrap();
-    for mesh in [plane, prism] {
+    for mesh in [plane, warped, prism] {
         let masses = barycentric_masses(&mesh);
         let pencil = DiracPencil::new(&mesh, &extrinsic_dirac(&mesh).unwrap()).unwrap();
         let (kernel, reference) =

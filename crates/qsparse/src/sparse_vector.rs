@@ -54,6 +54,52 @@ impl<T: Scalar> SparseVector<T> {
         }
     }
 
+    /// `⟨self, other⟩ = Σᵢ conj(selfᵢ) otherᵢ` of two sparse vectors (rows walked together).
+    pub fn inner_sparse(&self, other: &Self) -> T {
+        let mut sum = T::zero();
+        let mut position = 0;
+        for (&row, &value) in other.rows.iter().zip(&other.values) {
+            while position < self.rows.len() && self.rows[position] < row {
+                position += 1;
+            }
+            if self.rows.get(position) == Some(&row) {
+                sum += self.values[position].conj() * value;
+            }
+        }
+        sum
+    }
+
+    /// `self − other c` (coefficient on the right), on the union of the two supports.
+    pub fn minus_times(&self, other: &Self, c: T) -> Self {
+        let (mut rows, mut values) = (Vec::new(), Vec::new());
+        let (mut p, mut q) = (0, 0);
+        loop {
+            // The next row of either list, and the entry there.
+            let (row, value) = match (self.rows.get(p), other.rows.get(q)) {
+                (None, None) => break,
+                (Some(&i), Some(&j)) if i == j => {
+                    (p, q) = (p + 1, q + 1);
+                    (i, self.values[p - 1] - other.values[q - 1] * c)
+                }
+                (Some(&i), Some(&j)) if i < j => {
+                    p += 1;
+                    (i, self.values[p - 1])
+                }
+                (Some(&i), None) => {
+                    p += 1;
+                    (i, self.values[p - 1])
+                }
+                (_, Some(&j)) => {
+                    q += 1;
+                    (j, -(other.values[q - 1] * c))
+                }
+            };
+            rows.push(row);
+            values.push(value);
+        }
+        Self { rows, values }
+    }
+
     /// `Σᵢ |selfᵢ|²`.
     pub fn norm_squared(&self) -> T::Real {
         self.values.iter().map(|v| v.abs2()).sum()

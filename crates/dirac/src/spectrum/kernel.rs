@@ -17,7 +17,7 @@
 //!   `(Q k)* x = 0`, because `k* P x = 0 = λ k* Q x`.
 
 use qscalar::Scalar;
-use qsparse::{DisjointSets, SparseMatrix, SparseVector, vector};
+use qsparse::{DisjointSets, SparseMatrix, SparseVector};
 
 use crate::TriMesh;
 use crate::geometry::{norm, sub};
@@ -178,7 +178,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             // every kernel vector of `D`), so the pinned form never compresses two modes of one
             // piece; against the mass (shifted form) it is oblique, and only constrained.
             let piece: Vec<KernelMode<T>> = std::iter::once(mode).chain(linear).collect();
-            restoration.extend(orthogonalised(&piece, n));
+            restoration.extend(orthogonalised(&piece));
             modes.extend(piece);
         }
         Self {
@@ -228,54 +228,31 @@ pub(super) fn mass_norm_squared<T: Scalar<Real = f64>>(masses: &[f64], k: &Spars
 
 /// The orthogonally coupled modes of one piece with their images orthogonalised in turn
 /// (Gram–Schmidt with coefficients on the right): `k'_i = k_i − Σ_{j<i} k'_j α_j`,
-/// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal.
-fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>], n: usize) -> Vec<Restoration<T>> {
-    let mut done: Vec<(Vec<T>, Vec<T>)> = Vec::new();
+/// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal. Sparse: a
+/// mesh of many pieces pays for their supports only.
+fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>]) -> Vec<Restoration<T>> {
+    let mut done: Vec<Restoration<T>> = Vec::new();
     for mode in piece.iter().filter(|m| m.coupling == Coupling::Orthogonal) {
-        let (mut k, mut g) = (mode.vector.to_dense(n), mode.image.to_dense(n));
-        let before = vector::norm(&g);
-        for (kj, gj) in &done {
-            let alpha = vector::inner(gj, &g).scale(1.0 / vector::real_inner(gj, gj));
-            for (x, y) in k.iter_mut().zip(kj) {
-                *x -= *y * alpha;
-            }
-            for (x, y) in g.iter_mut().zip(gj) {
-                *x -= *y * alpha;
-            }
+        let (mut vector, mut image) = (mode.vector.clone(), mode.image.clone());
+        let before = image.norm_squared();
+        for earlier in &done {
+            let alpha =
+                (earlier.image.inner_sparse(&image)).scale(1.0 / earlier.image.norm_squared());
+            vector = vector.minus_times(&earlier.vector, alpha);
+            image = image.minus_times(&earlier.image, alpha);
         }
         // An image in the span of the earlier ones: `k'` is in `ker P ∩ ker Q`, free, and
         // nothing is restored along it (its constraint is dependent too, and dropped).
-        if vector::norm(&g) > 1e-8 * before {
-            done.push((k, g));
+        if image.norm_squared() > 1e-16 * before {
+            done.push(Restoration { vector, image });
         }
     }
-    done.iter()
-        .map(|(k, g)| Restoration {
-            vector: SparseVector::from_dense(k),
-            image: SparseVector::from_dense(g),
-        })
-        .collect()
+    done
 }
 
 /// `Σ_i |g_i|`.
 fn l1<T: Scalar<Real = f64>>(g: &SparseVector<T>) -> f64 {
     g.values.iter().map(|q| q.abs()).sum()
-}
-
-/// `k* g` of two sparse vectors (rows increasing).
-pub(super) fn sparse_inner<T: Scalar<Real = f64>>(k: &SparseVector<T>, g: &SparseVector<T>) -> T {
-    let mut sum = T::zero();
-    let mut position = 0;
-    for (&row, &value) in g.rows.iter().zip(&g.values) {
-        // Both lists increase: walk them together.
-        while position < k.rows.len() && k.rows[position] < row {
-            position += 1;
-        }
-        if k.rows.get(position) == Some(&row) {
-            sum += k.values[position].conj() * value;
-        }
-    }
-    sum
 }
 
 /// `Σ_j |k_j| Σ_i |X_ij|`: the scale of `X k` without cancellation.
@@ -343,7 +320,7 @@ fn kernel_mode<T: Scalar<Real = f64>>(
     let reference = MODE_TOLERANCE * column_mass(coupling, &vector);
     let coupling = if l1(&image) <= reference {
         Coupling::Free
-    } else if sparse_inner(&vector, &image).abs() <= reference {
+    } else if vector.inner_sparse(&image).abs() <= reference {
         Coupling::Orthogonal
     } else {
         Coupling::Oblique

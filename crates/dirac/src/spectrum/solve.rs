@@ -7,9 +7,7 @@ use qeig::{
 use qscalar::Scalar;
 use qsparse::{CholeskyError, SparseMatrix, SparseVector, threads, vector};
 
-use super::kernel::{
-    Coupling, ExactKernel, KernelMode, Reduction, Restoration, mass_norm_squared, sparse_inner,
-};
+use super::kernel::{Coupling, ExactKernel, KernelMode, Reduction, Restoration, mass_norm_squared};
 use super::pencil::{Form, Matrices};
 use super::{SolverBackend, SpectrumError, SpectrumOptions};
 
@@ -175,7 +173,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
                 col_ptr.push(row_idx.len());
             }
             (Form::Pinned, Coupling::Oblique) => {
-                let along = sparse_inner(&mode.vector, g).re();
+                let along = mode.vector.inner_sparse(g).re();
                 low_rank.push((reduction.functional(g), 1.0 / along));
             }
         }
@@ -204,7 +202,7 @@ pub(super) fn reduce<T: Scalar<Real = f64>>(
 /// `x ← x − k (g* x)/(k* g)`, `g = Q k`: the eigenvector of an oblique mode from the pinned
 /// one.
 fn project_oblique<T: Scalar<Real = f64>>(mode: &KernelMode<T>, x: &mut [T]) {
-    let along = sparse_inner(&mode.vector, &mode.image).re();
+    let along = mode.vector.inner_sparse(&mode.image).re();
     let c = mode.image.inner(x).scale(1.0 / along);
     mode.vector.add_to(x, -c);
 }

@@ -6,6 +6,7 @@ use num_complex::Complex;
 use proptest::prelude::*;
 use qscalar::Quat;
 use qscalar::strategies::ScalarStrategy;
+use qsparse::SparseVector;
 use qsparse::strategies::vector;
 use qsparse::vector::{
     axpy, axpy_real, axpy_two, axpy_two_then_inner_two, blocked_len, from_blocked,
@@ -180,5 +181,57 @@ proptest! {
     #[test]
     fn quaternion_kernels(input in inputs::<Quat<f64>>()) {
         kernels_match_scalar_arithmetic(input)?;
+    }
+}
+
+/// Two sparse vectors of one dimension (0 to 30) with random supports, and a coefficient.
+fn sparse_pair<T: ScalarStrategy>() -> impl Strategy<Value = (Vec<T>, Vec<T>, T)> {
+    (0..31usize).prop_flat_map(|n| {
+        let sparse = move || {
+            (vector::<T>(n), proptest::collection::vec(any::<bool>(), n)).prop_map(|(v, keep)| {
+                v.into_iter()
+                    .zip(keep)
+                    .map(|(x, k)| if k { x } else { T::zero() })
+                    .collect::<Vec<T>>()
+            })
+        };
+        (sparse(), sparse(), T::strategy(4.0))
+    })
+}
+
+fn sparse_operations_match_dense<T: ScalarStrategy>((a, b, c): (Vec<T>, Vec<T>, T)) {
+    let (x, y) = (SparseVector::from_dense(&a), SparseVector::from_dense(&b));
+    let scale = 1.0 + norm(&a) * norm(&b);
+    assert!(close(x.inner_sparse(&y), naive_inner(&a, &b), scale));
+    let combined = x.minus_times(&y, c);
+    assert!(
+        combined.rows.windows(2).all(|w| w[0] < w[1]),
+        "rows increase"
+    );
+    let want: Vec<T> = a.iter().zip(&b).map(|(&p, &q)| p - q * c).collect();
+    let got = combined.to_dense(a.len());
+    for (g, w) in got.iter().zip(&want) {
+        assert!(close(*g, *w, 1.0 + norm(&a) + norm(&b) * c.abs()));
+    }
+}
+
+proptest! {
+    #[test]
+    fn sparse_vector_inner_and_combination_match_dense_real(input in sparse_pair::<f64>()) {
+        sparse_operations_match_dense(input);
+    }
+
+    #[test]
+    fn sparse_vector_inner_and_combination_match_dense_quaternion(
+        input in sparse_pair::<Quat<f64>>()
+    ) {
+        sparse_operations_match_dense(input);
+    }
+
+    #[test]
+    fn sparse_vector_inner_and_combination_match_dense_complex(
+        input in sparse_pair::<Complex<f64>>()
+    ) {
+        sparse_operations_match_dense(input);
     }
 }
