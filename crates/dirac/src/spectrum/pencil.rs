@@ -423,23 +423,22 @@ fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> V
     for &[a, ..] in faces() {
         present[pieces.find(a)] = true;
     }
-    // Unit normals of the triangles that are not segments.
-    let normals: Vec<Option<[f64; 3]>> = faces()
-        .map(|&[a, b, c]| {
-            let (p, q, r) = (positions[a], positions[b], positions[c]);
-            let normal = cross(sub(q, p), sub(r, p));
-            let longest = norm(sub(q, p)).max(norm(sub(r, q))).max(norm(sub(p, r)));
-            (norm(normal) > PARALLEL_TOLERANCE * longest * longest).then(|| normalize(normal))
-        })
-        .collect();
+    // The unit normal of a triangle that is not a segment (computed in each of the two passes
+    // rather than stored: the memory of a mesh's size, at the peak of the assembly).
+    let normal_of = |&[a, b, c]: &[usize; 3]| {
+        let (p, q, r) = (positions[a], positions[b], positions[c]);
+        let normal = cross(sub(q, p), sub(r, p));
+        let longest = norm(sub(q, p)).max(norm(sub(r, q))).max(norm(sub(p, r)));
+        (norm(normal) > PARALLEL_TOLERANCE * longest * longest).then(|| normalize(normal))
+    };
     // Per piece: its first normal, and the cross product of it with the normal farthest from
     // parallel to it, whose direction is the only candidate unless the piece is planar.
     let mut first: Vec<Option<[f64; 3]>> = vec![None; n];
     let mut widest = vec![[0.0; 3]; n];
     let mut segments = vec![false; n];
-    for (&[a, ..], normal) in faces().zip(&normals) {
-        let root = pieces.find(a);
-        let Some(normal) = *normal else {
+    for face in faces() {
+        let root = pieces.find(face[0]);
+        let Some(normal) = normal_of(face) else {
             segments[root] = true;
             continue;
         };
@@ -468,11 +467,16 @@ fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> V
         })
         .collect();
     let mut parallel = present;
-    for (&[a, ..], normal) in faces().zip(&normals) {
-        let root = pieces.find(a);
-        if let (Some(u), Some(normal)) = (direction[root], normal) {
-            parallel[root] &= dot(u, *normal).abs() <= PARALLEL_TOLERANCE;
+    for face in faces() {
+        let root = pieces.find(face[0]);
+        if let Some(u) = direction[root]
+            && let Some(normal) = normal_of(face)
+        {
+            parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
         }
+    }
+    if !parallel.contains(&true) {
+        return Vec::new(); // the common case: no piece is parallel
     }
     let mut found: Vec<Option<ParallelPiece>> = vec![None; n];
     let mut order = Vec::new();
