@@ -68,7 +68,7 @@ pub(super) struct KernelMode<T> {
     pub pin: usize,
 }
 
-/// A linear mode's own parts of its [`Coupling`] restoration, orthogonalised against the
+/// An orthogonally coupled mode as the pinned form restores it: orthogonalised against the
 /// earlier modes of its piece (see [`ExactKernel::restoration`]).
 #[derive(Debug, Clone)]
 pub(super) struct Restoration<T> {
@@ -119,12 +119,10 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         linear: &[SparseVector<T>],
     ) -> Self {
         let n = mesh.vertex_count();
+        let mut pieces = pieces(mesh, flat);
         let mut touches_curved = vec![false; n];
-        let mut pieces = DisjointSets::new(n);
-        for (&[i, j, k], _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
-            (touches_curved[i], touches_curved[j], touches_curved[k]) = (true, true, true);
-            pieces.union(i, j);
-            pieces.union(j, k);
+        for (face, _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
+            face.iter().for_each(|&p| touches_curved[p] = true);
         }
         let flat_vertices = (0..n).filter(|&p| !touches_curved[p]).collect();
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
@@ -205,10 +203,8 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
     pub fn basis(&self, masses: &[f64], count: usize) -> Vec<Vec<T>> {
         let n = masses.len();
         let modes = self.modes.iter().map(|mode| {
-            let mut x = mode.vector.to_dense(n);
             let norm = mass_norm_squared(masses, &mode.vector).sqrt();
-            x.iter_mut().for_each(|v| *v = v.scale(1.0 / norm));
-            x
+            mode.vector.times(T::from_real(1.0 / norm)).to_dense(n)
         });
         let vertices = self.flat_vertices.iter().map(|&p| {
             let mut x = vec![T::zero(); n];
@@ -217,6 +213,17 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         });
         modes.chain(vertices).take(count).collect()
     }
+}
+
+/// The pieces of `mesh`: its vertices connected through the faces that are not `flat` (whose
+/// rows of the first-order operator do not vanish).
+pub(super) fn pieces(mesh: &TriMesh, flat: &[bool]) -> DisjointSets {
+    let mut pieces = DisjointSets::new(mesh.vertex_count());
+    for (&[i, j, k], _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
+        pieces.union(i, j);
+        pieces.union(j, k);
+    }
+    pieces
 }
 
 /// `Σ_p Ā_p |k_p|²`.

@@ -669,7 +669,7 @@ impl SecondSurface {
             Self::Reference => "the faces of the reference surface",
         };
         let example = match self {
-            Self::GaussMap => "a crease between flat parts, a cylinder or a cone",
+            Self::GaussMap => "a straight crease between flat parts, or a cylinder",
             Self::Mesh | Self::Reference => "the piece is planar, or a prism such as an open tube",
         };
         match direction {

@@ -5,9 +5,9 @@
 use std::sync::Arc;
 
 use qscalar::{Quat, Scalar};
-use qsparse::{DisjointSets, SparseCholesky, SparseMatrix, SparseVector, SymbolicCholesky};
+use qsparse::{SparseCholesky, SparseMatrix, SparseVector, SymbolicCholesky};
 
-use super::kernel::{Reduction, flat_faces, vanishing_faces};
+use super::kernel::{Reduction, flat_faces, pieces, vanishing_faces};
 use super::{Operator, SecondSurface, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
@@ -413,11 +413,7 @@ fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> V
             .filter(|(_, s)| !**s)
             .map(|(f, _)| f)
     };
-    let mut pieces = DisjointSets::new(n);
-    for &[a, b, c] in faces() {
-        pieces.union(a, b);
-        pieces.union(a, c);
-    }
+    let mut pieces = pieces(mesh, skipped);
     // Roots of pieces with a face (a vertex whose faces are all skipped is in none).
     let mut present = vec![false; n];
     for &[a, ..] in faces() {
