@@ -192,7 +192,8 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
         SpectrumError::ScaleOutOfRange | SpectrumError::ReferenceConnectivity(_) => Kind::Mesh,
         SpectrumError::VanishingOperator { .. }
         | SpectrumError::TooFewNonzero { .. }
-        | SpectrumError::ParallelFaces { .. } => Kind::Kernel,
+        | SpectrumError::ParallelFaces { .. }
+        | SpectrumError::RuledKernel { .. } => Kind::Kernel,
         SpectrumError::Factorization(_) => Kind::Singular,
         SpectrumError::NotConverged { .. } => Kind::NotConverged,
         _ => Kind::Solver,

@@ -82,3 +82,39 @@ def test_the_extrinsic_dirac_spectrum_matches_scipy(name, mesh, kernel):
         rtol=1e-9,
         err_msg=name,
     )
+
+
+def panel_tube(sides: int, cuts: int, rings: int) -> tuple[np.ndarray, np.ndarray]:
+    """An open tube whose section is the regular polygon of ``sides`` corners, each side cut into
+    ``cuts`` edges: flat panels meeting at straight creases from boundary to boundary."""
+    angle = 2 * np.pi * np.arange(sides + 1) / sides
+    corners = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    around = sides * cuts
+    section = [
+        corners[k // cuts] + (k % cuts) / cuts * (corners[k // cuts + 1] - corners[k // cuts])
+        for k in range(around)
+    ]
+    V = np.array([[x, y, z] for z in np.linspace(0, 1, rings) for x, y in section])
+    F = []
+    for j in range(rings - 1):
+        for k in range(around):
+            a, b = j * around + k, j * around + (k + 1) % around
+            F += [[a, b, b + around], [a, b + around, a + around]]
+    return V, np.array(F)
+
+
+def test_the_relative_dirac_spectrum_of_a_tube_of_flat_panels_matches_scipy():
+    """Along each crease the triangles of vertex normals have two equal corners, whose rows of
+    ``D_N`` ask only equal values there: the kernel is a constant and a linear function per
+    crease (12 on a hexagon), not one constant, and the spectrum matches scipy's."""
+    V, F = panel_tube(6, 3, 5)
+    k = 12  # the ±λ of a hexagon come 12 at once
+    got = ds.spectrum(V, F, k=k, operator="relative-dirac")
+    dimension, reference = dense_reference(V, F, "relative-dirac")
+    assert dimension == got.kernel_dimension == 12
+    assert got.kernel_linear_functions == 6
+    np.testing.assert_allclose(
+        by_magnitude(np.repeat(got.eigenvalues, 4)),
+        by_magnitude(reference)[: 4 * k],
+        rtol=1e-9,
+    )

@@ -602,6 +602,24 @@ fn dense_reference_with_numerical_kernel(
     (kernel.len(), lambdas)
 }
 
+/// The square `A x = ν M x` solved densely: `(dim ker A, nonzero ν ascending)`, the kernel being
+/// the eigenvalues at most `10⁻⁹` of the largest.
+fn dense_squared(stiffness: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> (usize, Vec<f64>) {
+    let mass = DenseMatrix::from_fn(masses.len(), masses.len(), |i, j| {
+        Quat::from_real(if i == j { masses[i] } else { 0.0 })
+    });
+    let mut dense = DenseMatrix::zeros(masses.len(), masses.len());
+    for (i, j, v) in stiffness.triplets() {
+        dense.col_mut(j)[i] = v;
+    }
+    let nu = qeig::dense::generalized_hermitian_eigen(&dense, &mass)
+        .unwrap()
+        .values;
+    let top = nu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let nonzero: Vec<f64> = nu.into_iter().filter(|v| *v > 1e-9 * top).collect();
+    (masses.len() - nonzero.len(), nonzero)
+}
+
 /// `got` against the dense `reference` (both sorted by `|λ|`; a pair `±λ` may come in either
 /// order) to `10⁻⁹`.
 fn assert_matches(got: &[f64], reference: &[f64], what: &str) {
@@ -672,21 +690,8 @@ fn the_relative_spectrum_against_a_planar_reference_removes_the_linear_function(
         assert_eq!(got.kernel.linear_functions, 1);
         assert_matches(&got.eigenvalues, &reference, "D_(f,B)");
     }
-    // The square `A x = ν M x`: its nonzero eigenvalues from a dense solve, the kernel being
-    // the eigenvalues at most `10⁻⁹` of the largest.
-    let mass = DenseMatrix::from_fn(masses.len(), masses.len(), |i, j| {
-        Quat::from_real(if i == j { masses[i] } else { 0.0 })
-    });
-    let mut dense = DenseMatrix::zeros(masses.len(), masses.len());
-    for (i, j, v) in pencil.stiffness.triplets() {
-        dense.col_mut(j)[i] = v;
-    }
-    let nu = qeig::dense::generalized_hermitian_eigen(&dense, &mass)
-        .unwrap()
-        .values;
-    let top = nu.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let nonzero: Vec<f64> = nu.into_iter().filter(|v| *v > 1e-9 * top).collect();
-    assert_eq!(masses.len() - nonzero.len(), 2);
+    let (kernel, nonzero) = dense_squared(&pencil.stiffness, &masses);
+    assert_eq!(kernel, 2);
     let got =
         relative_spectrum(&bumped, &flat, &SpectrumOptions::new(Operator::Squared, 10)).unwrap();
     assert_eq!((got.kernel.dimension, got.kernel.linear_functions), (2, 1));
@@ -723,4 +728,130 @@ fn the_linear_function_is_listed_with_the_kernel() {
             );
         }
     }
+}
+
+/// An open tube around the z axis from `z = 0` to `z = 1` whose section is the regular polygon of
+/// `sides` corners on the unit circle, each side cut into `cuts` edges: `rings` rings of
+/// `sides · cuts` vertices, aligned, two triangles per quad, counter-clockwise seen from
+/// outside. Flat panels meeting at straight creases from boundary to boundary.
+fn polygonal_tube(sides: usize, cuts: usize, rings: usize) -> TriMesh {
+    let around = sides * cuts;
+    let corner = |i: usize| {
+        let angle = 2.0 * std::f64::consts::PI * (i % sides) as f64 / sides as f64;
+        [angle.cos(), angle.sin()]
+    };
+    let mut positions = Vec::new();
+    for j in 0..rings {
+        for k in 0..around {
+            let (a, b) = (corner(k / cuts), corner(k / cuts + 1));
+            let t = (k % cuts) as f64 / cuts as f64;
+            let z = j as f64 / (rings - 1) as f64;
+            positions.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), z]);
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..rings - 1 {
+        for k in 0..around {
+            let (a, b) = (j * around + k, j * around + (k + 1) % around);
+            faces.push([a, b, b + around]);
+            faces.push([a, b + around, a + around]);
+        }
+    }
+    TriMesh::new(positions, faces).unwrap()
+}
+
+/// Where two corners of a triangle of normals coincide (a crease between flat panels, a
+/// cylinder whose rulings carry equal normals), its row of `D_N` asks only that a kernel
+/// vector be equal at those two corners: the kernel has a constant on each ruling, not one per
+/// connected piece, and a linear function `u N` where the triangles of normals are proper and
+/// parallel. Each such mesh's relative Dirac and squared spectra match dense solves of the
+/// same pencils whose kernels are found numerically; before, the relative Dirac operator
+/// refused them and the squared operator did not converge.
+#[test]
+fn creases_and_rulings_from_boundary_to_boundary_carry_a_constant_each() {
+    let angle = 2.0f64;
+    // The crease is the line x = 0 of the grid (`[−1, 1] × [−½, ½]`).
+    let folded = grid(6, 4, 2.0, 1.0)
+        .unwrap()
+        .map_positions(|[x, y, _]| {
+            let beyond = x.max(0.0);
+            [x.min(0.0) + beyond * angle.cos(), y, beyond * angle.sin()]
+        })
+        .unwrap();
+    // `k` ends between eigenvalues of different magnitude (±λ of a hexagon come 12 at once);
+    // the constants the solver finds (one per crease on the hexagonal tubes, whose panels have
+    // flat vertices between the creases when cut 4 times).
+    let cylinder = dirac::generators::cylinder(12, 5, 1.0).unwrap();
+    let meshes = [
+        ("folded grid", folded, 10, 1),
+        ("cylinder", cylinder, 12, 1),
+        ("hexagonal tube", polygonal_tube(6, 3, 5), 12, 6),
+        (
+            "hexagonal tube, moved",
+            rotated(&polygonal_tube(6, 3, 5)),
+            12,
+            6,
+        ),
+        (
+            "hexagonal tube, cut 4 times",
+            polygonal_tube(6, 4, 5),
+            12,
+            6,
+        ),
+        ("square tube, cut once", polygonal_tube(4, 1, 4), 8, 1),
+    ];
+    for (name, mesh, k, constants) in meshes {
+        let masses = barycentric_masses(&mesh);
+        let pencil = DiracPencil::new(&mesh, &normal_dirac(&mesh).unwrap()).unwrap();
+        let (kernel, reference) =
+            dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
+        let got = relative_dirac(&mesh, k).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(got.kernel.constants, constants, "{name}: {:?}", got.kernel);
+        assert_eq!(got.kernel.dimension, kernel, "{name}: {:?}", got.kernel);
+        assert_matches(&got.eigenvalues, &reference, name);
+
+        let (kernel, nonzero) = dense_squared(&pencil.stiffness, &masses);
+        let options = SpectrumOptions::new(Operator::Squared, k);
+        let got = spectrum(&mesh, &options).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(got.kernel.dimension, kernel, "{name}, squared");
+        assert_matches(&got.eigenvalues, &nonzero, name);
+    }
+}
+
+/// Cut twice, each panel of the hexagonal tube has one column of vertices between its creases,
+/// and the normals of a crease turn at the boundary: the rulings are held together only by
+/// proper triangles at their ends, which meet them at single vertices, and the kernel is
+/// larger than a constant and a linear function (the dense reference finds 6). Relative Dirac
+/// and the squared operator say so with the excess the dense reference finds, and the family
+/// is solved.
+#[test]
+fn rulings_held_together_at_single_vertices_are_a_typed_error_with_the_excess() {
+    let mesh = polygonal_tube(6, 2, 5);
+    let masses = barycentric_masses(&mesh);
+    let pencil = DiracPencil::new(&mesh, &normal_dirac(&mesh).unwrap()).unwrap();
+    let (kernel, _) =
+        dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
+    match relative_dirac(&mesh, 6) {
+        Err(
+            error @ SpectrumError::RuledKernel {
+                excess: Some(excess),
+                ..
+            },
+        ) => {
+            assert_eq!(2 + excess, kernel, "{error}");
+            assert!(error.to_string().contains("family:T"), "{error}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The squared operator would list the rest of the kernel as eigenvalues 0.
+    let squared = SpectrumOptions::new(Operator::Squared, 6);
+    assert!(matches!(
+        spectrum(&mesh, &squared),
+        Err(SpectrumError::RuledKernel {
+            excess: Some(4),
+            ..
+        })
+    ));
+    let family = SpectrumOptions::new(Operator::Family { tau: 0.5 }, 6);
+    assert!(spectrum(&mesh, &family).is_ok());
 }

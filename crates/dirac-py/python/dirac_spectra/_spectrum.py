@@ -189,10 +189,10 @@ def spectrum(
             ``"squared"`` (``D_N* D_N``), ``"modified-dirichlet"``, ``"anisotropic-laplace"``
             (Andreux et al. 2014, needs ``anisotropy``). ``"family-literal"`` is solved from
             the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
-            on curved meshes) it raises ``SolverError``; ``"relative-dirac"`` on a piece
-            whose vertex normals lie in one plane with some triangles of them segments (an
-            open tube, a straight crease from boundary to boundary) raises ``KernelError``: a
-            kernel the solver does not remove.
+            on curved meshes) it raises ``SolverError``; ``"relative-dirac"`` and ``"squared"``
+            raise ``KernelError`` where the kernel may be larger than what the solver removes
+            (rulings of a crease or tube tied to the rest only at single vertices, or a
+            reference some of whose triangles are segments of three distinct points).
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).

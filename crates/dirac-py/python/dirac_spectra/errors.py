@@ -26,9 +26,10 @@ class                  builtin base                raised when
 ``KernelError``        ``ValueError``              the operator has fewer nonzero eigenvalues
                                                    than asked for outside its exact kernel (or
                                                    none at all: a planar mesh for relative Dirac),
-                                                   or has a kernel it does not remove (D_N on
-                                                   an open tube or a crease from boundary to
-                                                   boundary)
+                                                   or has a kernel it does not remove (rulings
+                                                   tied to the rest at single vertices, or a
+                                                   second surface with triangles that are
+                                                   segments of three distinct points)
 ``SingularError``      ``ArithmeticError``         a matrix is numerically singular (``vertex``
                                                    where the factorisation failed, if known)
 ``SolverError``        ``RuntimeError``            the eigensolver failed

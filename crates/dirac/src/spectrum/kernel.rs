@@ -16,6 +16,8 @@
 //!   eigenvectors relate to it: unless `Q k = 0`, every eigenvector with `λ ≠ 0` satisfies
 //!   `(Q k)* x = 0`, because `k* P x = 0 = λ k* Q x`.
 
+use std::collections::HashMap;
+
 use qscalar::Scalar;
 use qsparse::{DisjointSets, SparseMatrix, SparseVector};
 
@@ -109,17 +111,19 @@ pub struct KernelSummary {
 
 impl<T: Scalar<Real = f64>> ExactKernel<T> {
     /// The kernel of `P x = λ Q x` on `mesh`, with `flat[t]` telling whether face `t`'s row of
-    /// the first-order operator vanishes (all `false` for operators without one), and
-    /// candidate linear modes (each on one piece, ascending rows), kept if `P` annihilates them.
+    /// the first-order operator vanishes (all `false` for operators without one), the `pieces`
+    /// whose constants are candidate modes (those of the first-order operator's structure, or
+    /// [`pieces`]), and candidate linear modes (each on one piece, ascending rows), each kept if
+    /// `P` annihilates it.
     pub fn find(
         mesh: &TriMesh,
         flat: &[bool],
+        mut pieces: DisjointSets,
         stiffness: &SparseMatrix<T>,
         coupling: &SparseMatrix<T>,
-        linear: &[SparseVector<T>],
+        linear: Vec<SparseVector<T>>,
     ) -> Self {
         let n = mesh.vertex_count();
-        let mut pieces = pieces(mesh, flat);
         let mut touches_curved = vec![false; n];
         for (face, _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
             face.iter().for_each(|&p| touches_curved[p] = true);
@@ -129,10 +133,11 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         for p in (0..n).filter(|&p| touches_curved[p]) {
             members[pieces.find(p)].push(p);
         }
-        let mut linear_of_piece: Vec<Option<&SparseVector<T>>> = vec![None; n];
+        // By root: few pieces have one.
+        let mut linear_of_piece: HashMap<usize, SparseVector<T>> = HashMap::new();
         for mode in linear {
             if let Some(&first) = mode.rows.first() {
-                linear_of_piece[pieces.find(first)] = Some(mode);
+                linear_of_piece.insert(pieces.find(first), mode);
             }
         }
         let mut accumulator = Accumulator::new(n);
@@ -156,18 +161,19 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             ) else {
                 continue;
             };
-            let linear = linear_of_piece[root].and_then(|k| {
+            let linear = linear_of_piece.remove(&root).and_then(|k| {
                 // `k` starts at the piece's first vertex, the constant's pin.
                 let base = k.values[0];
                 let pin = (k.rows.iter().zip(&k.values))
                     .max_by(|a, b| (*a.1 - base).abs().total_cmp(&(*b.1 - base).abs()))
                     .filter(|(_, v)| (**v - base).abs() > 0.0)?
                     .0;
+                let pin = *pin;
                 kernel_mode(
                     &mut accumulator,
                     ModeKind::Linear,
-                    k.clone(),
-                    *pin,
+                    k,
+                    pin,
                     stiffness,
                     coupling,
                 )
@@ -215,8 +221,9 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
     }
 }
 
-/// The pieces of `mesh`: its vertices connected through the faces that are not `flat` (whose
-/// rows of the first-order operator do not vanish).
+/// The pieces of `mesh` for a pencil whose first-order operator tells nothing finer: its
+/// vertices connected through the faces that are not `flat` (whose rows of the first-order
+/// operator do not vanish).
 pub(super) fn pieces(mesh: &TriMesh, flat: &[bool]) -> DisjointSets {
     let mut pieces = DisjointSets::new(mesh.vertex_count());
     for (&[i, j, k], _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
@@ -428,7 +435,7 @@ fn face_flatness(mesh: &TriMesh, normals: &[[f64; 3]], length: f64, [i, j, k]: [
 }
 
 /// `√(total area)`.
-fn length_scale(mesh: &TriMesh) -> f64 {
+pub(super) fn length_scale(mesh: &TriMesh) -> f64 {
     (0..mesh.face_count())
         .map(|t| mesh.face_area(t))
         .sum::<f64>()

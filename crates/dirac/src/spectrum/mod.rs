@@ -46,9 +46,13 @@
 //! blend) the eigenvectors satisfy `(Q 𝟙_S)* x = 0`, imposed as a constraint, with the
 //! constant component restored afterwards. On a piece where every triangle of the second surface
 //! `f2` is parallel to one direction `u` (a plane or an open prism for `D_f`), the linear
-//! function `u f2` is in the kernel too and is removed the same way (a second pin); where some
-//! of those triangles are segments the kernel can be larger, and the pinned form stops with
-//! [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
+//! function `u f2` is in the kernel too and is removed the same way (a second pin). Where two
+//! corners of a triangle of `f2` coincide (normals along a crease from boundary to boundary,
+//! or on the rulings of a cylinder) its row asks only equal values there, so the pieces are
+//! finer than the connected ones, each with its constant; where such rulings tie proper
+//! triangles together at single vertices the kernel can be larger, which is counted and is
+//! the error [`SpectrumError::RuledKernel`]. Where some triangles are segments of three
+//! distinct points the kernel can be larger too: [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
 //! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
 //! with a mass-orthonormal basis (constants first, each followed by its piece's linear function
 //! if it has one, then `δ_p / √Ā_p`).
@@ -65,6 +69,7 @@
 //! [`ROUNDING_BACKWARD_ERROR`]; otherwise [`SpectrumError::NotConverged`] carries the pairs
 //! that are.
 
+mod first_order;
 mod kernel;
 mod pencil;
 mod solve;
@@ -79,9 +84,10 @@ use qscalar::{Quat, Scalar};
 use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 use thiserror::Error;
 
+use first_order::Unremoved;
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, NEARLY_FLAT, flatness_around};
-use pencil::{Form, Matrices, OperatorPencil, PencilSpec};
+use pencil::{Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, products};
 
 use crate::geometry::barycentric_masses;
@@ -668,17 +674,15 @@ impl SecondSurface {
             Self::Mesh => "the faces of the mesh",
             Self::Reference => "the faces of the reference surface",
         };
-        let example = match self {
-            Self::GaussMap => "a straight crease between flat parts, or a cylinder",
-            Self::Mesh | Self::Reference => "the piece is planar, or a prism such as an open tube",
-        };
         match direction {
-            Some([x, y, z]) => {
-                format!(
-                    "{triangles} are all parallel to the direction ({x:.6}, {y:.6}, {z:.6}) ({example})"
-                )
-            }
-            None => format!("{triangles} are all segments ({example})"),
+            Some([x, y, z]) => format!(
+                "{triangles} are all parallel to the direction ({x:.6}, {y:.6}, {z:.6}) and some \
+                 are segments (three distinct points on a line, within 10⁻¹⁰ of their size)"
+            ),
+            None => format!(
+                "{triangles} are all segments (three distinct points on a line, within 10⁻¹⁰ \
+                 of their size)"
+            ),
         }
     }
 }
@@ -774,18 +778,19 @@ pub enum SpectrumError {
         /// Connected components of the mesh (all flat).
         components: usize,
     },
-    /// A pinned Dirac pencil `D_{f,f2}` whose second surface `f2` (the Gauss map for `D_N`, the
+    /// A Dirac pencil on `D_{f,f2}` whose second surface `f2` (the Gauss map for `D_N`, the
     /// mesh itself for `D_f`, else the reference surface) has a piece on which every triangle
-    /// is parallel to one direction `u` and some triangles are segments (a straight crease
-    /// between flat parts, a cylinder): there `D_{f,f2}` annihilates the linear function `u f2`
-    /// (`f2` itself when every triangle is a segment) and possibly more besides the constants
-    /// (functions constant along the rulings), a kernel the solver does not remove. (Where no
-    /// triangle is a segment, the kernel is the constants and `u f2`, and it is removed.)
+    /// is parallel to one direction `u` and some triangles are segments of three distinct
+    /// points (degenerate triangles, such as a reference squashed onto a line): there the row
+    /// of each segment annihilates the functions linear along it, and `D_{f,f2}` possibly more
+    /// than the constants and `u f2`, a kernel the solver does not remove. (Triangles with two
+    /// coinciding corners, the normals along a crease or the rulings of a cylinder, and proper
+    /// triangles leave a kernel that is known and removed.)
     #[error(
         "the {operator} operator is not solved here: on the piece of vertex {vertex}, {}, where \
-         {} annihilates {} and possibly more (functions constant along straight rulings) \
-         besides the constants, a kernel the solver does not remove; use --operator family:T \
-         (0 < T < 1), whose blend with the Laplacian has only the constants in its kernel{}",
+         {} annihilates {} and possibly more (functions linear along each segment) besides the \
+         constants, a kernel the solver does not remove; use --operator family:T (0 < T < 1), \
+         whose blend with the Laplacian has only the constants in its kernel{}",
         surface.describe(*direction),
         surface.operator(),
         match direction {
@@ -804,6 +809,43 @@ pub enum SpectrumError {
         /// A unit direction `u` every triangle of the piece is parallel to (`None`: every
         /// triangle is a segment, parallel to every direction).
         direction: Option<[f64; 3]>,
+    },
+    /// A Dirac pencil on `D_{f,f2}` with a piece where corners of the triangles of `f2`
+    /// coincide along rulings (a crease between flat panels, a cylinder of straight rulings)
+    /// and whose kernel is larger than its constant and `u f2`: the rulings meet the proper
+    /// triangles of `f2` at single vertices, so each may carry its own value, a kernel the
+    /// solver does not remove.
+    #[error(
+        "the {operator} operator is not solved here: on the piece of vertex {vertex}, corners of \
+         the triangles of {} coincide along rulings (a crease between flat panels, or a \
+         cylinder of straight rulings), and {}; use --operator family:T (0 < T < 1), whose \
+         blend with the Laplacian has only the constants in its kernel",
+        surface.symbol(),
+        match excess {
+            Some(d) => format!(
+                "{} annihilates {d} more function{} than the constant and the linear function \
+                 the solver removes",
+                surface.operator(),
+                if *d == 1 { "" } else { "s" }
+            ),
+            None => format!(
+                "the kernel of {} there, which may be larger than the constant and the linear \
+                 function the solver removes, was not computed (it is for at most {} \
+                 parameters of rigid parts)",
+                surface.operator(),
+                first_order::PARAMETERS_COMPUTED
+            ),
+        }
+    )]
+    RuledKernel {
+        /// The operator asked for.
+        operator: Operator,
+        /// Which surface `f2` is.
+        surface: SecondSurface,
+        /// The smallest vertex of the piece.
+        vertex: usize,
+        /// The dimension of its kernel beyond what is removed (`None`: not computed).
+        excess: Option<usize>,
     },
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(
@@ -1065,42 +1107,57 @@ fn compute(
     let mesh = mesh.as_ref();
     match (pencil, options.backend) {
         (OperatorPencil::Real(spec), SolverBackend::Native) => {
-            solve_pencil(&spec, mesh, scale, options, progress)
+            solve_pencil(spec, mesh, scale, options, progress)
         }
-        (pencil, _) => solve_pencil(&pencil.into_quaternionic(), mesh, scale, options, progress),
+        (pencil, _) => solve_pencil(pencil.into_quaternionic(), mesh, scale, options, progress),
     }
 }
 
 /// The spectrum of the pencil `spec` over its scalar `T` on `mesh` (as solved, positions
 /// multiplied by `scale`).
 fn solve_pencil<T: Scalar<Real = f64>>(
-    spec: &PencilSpec<T>,
+    mut spec: PencilSpec<T>,
     mesh: &TriMesh,
     scale: f64,
     options: &SpectrumOptions,
     mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     let masses = barycentric_masses(mesh);
-    let linear = spec.linear.as_ref();
-    // The pinned form needs `P` definite once the known kernel is out: a kernel that may be
-    // larger than the linear functions is an error there (the shifted form finds it as
-    // eigenvalue 0).
-    if let Some(linear) = linear.filter(|_| spec.form == Form::Pinned)
-        && let Some((vertex, direction)) = linear.unremoved
+    // Taken: the kernel's pieces are consumed by its search, before the solve's peak of memory.
+    let first_order = spec.first_order.take();
+    // A kernel that may be larger than what is removed is an error: the pinned form needs `P`
+    // definite once the known kernel is out, and the shifted form would list the rest as
+    // eigenvalues `0` among the nonzero ones.
+    if let Some(first_order) = &first_order
+        && let Some(unremoved) = first_order.unremoved
     {
-        return Err(SpectrumError::ParallelFaces {
-            operator: options.operator,
-            surface: linear.surface,
-            vertex,
-            direction,
+        let (operator, surface) = (options.operator, first_order.surface);
+        return Err(match unremoved {
+            Unremoved::Segments { vertex, direction } => SpectrumError::ParallelFaces {
+                operator,
+                surface,
+                vertex,
+                direction,
+            },
+            Unremoved::Rulings { vertex, excess } => SpectrumError::RuledKernel {
+                operator,
+                surface,
+                vertex,
+                excess,
+            },
         });
     }
+    let (pieces, linear) = match first_order {
+        Some(first_order) => (first_order.pieces, first_order.linear),
+        None => (kernel::pieces(mesh, &spec.flat), Vec::new()),
+    };
     let kernel = ExactKernel::find(
         mesh,
         &spec.flat,
+        pieces,
         &spec.solved().stiffness,
         &spec.solved().coupling,
-        linear.map_or(&[], |l| &l.modes),
+        linear,
     );
     let listed = if options.include_kernel {
         kernel.summary().dimension.min(options.k)
@@ -1122,7 +1179,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
             options,
             &mut progress,
         )
-        .map_err(|e| singular_error(e, spec, mesh, options.flat_tolerance))?;
+        .map_err(|e| singular_error(e, &spec, mesh, options.flat_tolerance))?;
     }
     pairs.values.splice(0..0, vec![0.0; listed]);
     pairs.vectors.splice(0..0, kernel.basis(&masses, listed));

@@ -5,16 +5,15 @@
 use std::sync::Arc;
 
 use qscalar::{Quat, Scalar};
-use qsparse::{SparseCholesky, SparseMatrix, SparseVector, SymbolicCholesky};
+use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
 
-use super::kernel::{Reduction, flat_faces, pieces, vanishing_faces};
+use super::first_order::{FirstOrderKernel, first_order_kernel};
+use super::kernel::{Reduction, flat_faces, vanishing_faces};
 use super::{Operator, SecondSurface, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
-use crate::geometry::{
-    barycentric_masses, cotan_laplacian, cross, dot, norm, normalize, sub, vertex_normals,
-};
+use crate::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
 use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
 use crate::well::{dirac_with_well, laplacian_with_well};
 
@@ -72,28 +71,10 @@ pub(super) struct PencilSpec<T> {
     pub flat: Vec<bool>,
     /// The Gauss map `N` that decides flatness (relative Dirac operators).
     pub normals: Option<Vec<[f64; 3]>>,
-    /// The linear functions of the second surface the first-order operator annihilates
-    /// (operators built on one).
-    pub linear: Option<LinearKernel<T>>,
+    /// What the first-order operator tells of the kernel (operators built on one).
+    pub first_order: Option<FirstOrderKernel<T>>,
     /// How the pencil is solved.
     pub form: Form,
-}
-
-/// The linear functions `u f2` a first-order operator `D_{f,f2}` annihilates besides the
-/// constants, on the pieces where every triangle of `f2` is parallel to one direction `u`
-/// ([`parallel_faces`]; docs/MATH.md, "The exact kernel").
-#[derive(Debug, Clone)]
-pub(super) struct LinearKernel<T> {
-    /// Which surface `f2` is.
-    pub surface: SecondSurface,
-    /// `u (f2 − f̄2)` on each such piece with no triangle a segment, `f̄2` the mass-weighted mean
-    /// over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
-    /// exactly the constants and this function.
-    pub modes: Vec<SparseVector<T>>,
-    /// A piece where some triangles are segments, which may leave more of the kernel than
-    /// `u f2` (functions constant along the rulings of a crease or a cylinder): its smallest
-    /// vertex and `u` (`None`: every triangle a segment). The pinned form stops there.
-    pub unremoved: Option<(usize, Option<[f64; 3]>)>,
 }
 
 /// An operator's pencil over the scalar it is assembled in.
@@ -194,7 +175,7 @@ impl OperatorPencil {
                 exact: spec.exact.as_ref().map(Matrices::lifted),
                 flat: spec.flat,
                 normals: spec.normals,
-                linear: None,
+                first_order: None,
                 form: spec.form,
             },
             Self::Quaternionic(spec) => spec,
@@ -210,7 +191,7 @@ impl<T: Scalar<Real = f64>> PencilSpec<T> {
             exact: None,
             flat: vec![false; mesh.face_count()],
             normals: None,
-            linear: None,
+            first_order: None,
             form,
         }
     }
@@ -255,7 +236,7 @@ struct FirstOrder {
     exact: Option<Matrices<Quat<f64>>>,
     flat: Vec<bool>,
     normals: Option<Vec<[f64; 3]>>,
-    linear: LinearKernel<Quat<f64>>,
+    kernel: FirstOrderKernel<Quat<f64>>,
 }
 
 impl FirstOrder {
@@ -266,27 +247,35 @@ impl FirstOrder {
         potential: Option<&[f64]>,
         flat_tolerance: f64,
     ) -> Result<Self, SpectrumError> {
-        let (d, normals) = match second {
+        let mut normals = None;
+        let (f2, surface): (&[[f64; 3]], _) = match second {
             SecondImmersion::GaussMap => {
-                let normals = vertex_normals(mesh)
+                let gauss_map = vertex_normals(mesh)
                     .map_err(|vertex| OperatorError::DegenerateNormal { vertex })?;
-                (relative_dirac(mesh, &normals)?, Some(normals))
+                (
+                    normals.insert(gauss_map).as_slice(),
+                    SecondSurface::GaussMap,
+                )
             }
-            // The rows of `D_f` are edge vectors over twice the area: never zero.
-            SecondImmersion::Positions => (extrinsic_dirac(mesh)?, None),
-            // Nor are those of a surface's, whose faces have positive area
-            // ([`TriMesh::check_same_connectivity`] paired it with `mesh`).
-            SecondImmersion::Surface(f2) => (relative_dirac(mesh, f2)?, None),
+            SecondImmersion::Positions => (mesh.positions(), SecondSurface::Mesh),
+            SecondImmersion::Surface(f2) => (f2, SecondSurface::Reference),
+        };
+        let d = match second {
+            SecondImmersion::Positions => extrinsic_dirac(mesh)?,
+            _ => relative_dirac(mesh, f2)?,
         };
         let d = match potential {
             Some(u) => dirac_with_well(mesh, &d, u)?,
             None => d,
         };
-        let flat = match &normals {
-            Some(normals) => {
-                vanishing_faces(mesh, &flat_faces(mesh, normals, potential, flat_tolerance))
+        // The rows of `D_f` are edge vectors over twice the area: never zero. Nor are those of
+        // a surface's, whose faces have positive area ([`TriMesh::check_same_connectivity`]
+        // paired it with `mesh`).
+        let flat = match surface {
+            SecondSurface::GaussMap => {
+                vanishing_faces(mesh, &flat_faces(mesh, f2, potential, flat_tolerance))
             }
-            None => vec![false; mesh.face_count()],
+            _ => vec![false; mesh.face_count()],
         };
         let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices<_>, SpectrumError> {
             let p = DiracPencil::new(mesh, d)?;
@@ -301,18 +290,25 @@ impl FirstOrder {
         } else {
             None
         };
-        let (f2, surface) = match second {
-            SecondImmersion::GaussMap => (normals.as_deref(), SecondSurface::GaussMap),
-            SecondImmersion::Positions => (Some(mesh.positions()), SecondSurface::Mesh),
-            SecondImmersion::Surface(f2) => (Some(f2), SecondSurface::Reference),
-        };
-        let linear = linear_kernel(mesh, masses, f2.unwrap_or_default(), &flat, surface);
+        let operator = pencil(&d)?;
+        drop(d);
+        // After the matrices, whose assembly is the peak of memory here.
+        let gauss_map = surface == SecondSurface::GaussMap;
+        let kernel = first_order_kernel(
+            mesh,
+            masses,
+            f2,
+            &flat,
+            potential,
+            gauss_map.then_some(flat_tolerance),
+            surface,
+        );
         Ok(Self {
-            operator: pencil(&d)?,
+            operator,
             exact,
             flat,
             normals,
-            linear,
+            kernel,
         })
     }
 
@@ -330,7 +326,7 @@ impl FirstOrder {
             coupling: spec.operator.coupling.clone(),
         });
         (spec.flat, spec.normals) = (self.flat, self.normals);
-        spec.linear = Some(self.linear);
+        spec.first_order = Some(self.kernel);
         spec
     }
 
@@ -341,7 +337,7 @@ impl FirstOrder {
             exact: self.exact,
             flat: self.flat,
             normals: self.normals,
-            linear: Some(self.linear),
+            first_order: Some(self.kernel),
             form: Form::Pinned,
         }
     }
@@ -372,187 +368,6 @@ fn modified_dirichlet(mesh: &TriMesh, masses: &[f64]) -> Result<SparseMatrix<f64
         &SparseMatrix::from_diagonal(&weighted),
     )
     .map_err(|e| SpectrumError::Operator(e.into()))
-}
-
-/// Unit face normals within this of perpendicular to a direction are parallel to it, and
-/// triangles whose height is below this times their longest edge are segments (rounding leaves
-/// `~10⁻¹⁶`, and `10⁻¹³` on sliver faces).
-const PARALLEL_TOLERANCE: f64 = 1e-10;
-
-/// A piece of the mesh (connected through the faces not skipped) on which every triangle of a
-/// second surface `f2` is parallel to one unit direction.
-#[derive(Debug, Clone, PartialEq)]
-struct ParallelPiece {
-    /// Its vertices, ascending.
-    vertices: Vec<usize>,
-    /// The direction `u` (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for the unit normals `n_t` of its
-    /// triangles that are not segments); `None` if every triangle is a segment (parallel to
-    /// every direction).
-    direction: Option<[f64; 3]>,
-    /// Whether some triangle is a segment.
-    segments: bool,
-}
-
-/// The pieces of the mesh (connected through the faces not `skipped`) on which every triangle
-/// of the second surface `f2 = positions` is parallel to one unit direction `u`, by smallest
-/// vertex.
-///
-/// On such a piece `D_{f,f2}` annihilates, besides the constants, the linear function `u f2 q`
-/// (`f2` itself if every triangle is a segment): `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u
-/// df2(X)` vanishes when the three vectors lie in one plane, or `df2(X)` and `df2(Y)` on one
-/// line, which they do on every face, and the discrete operator is exact on linear functions.
-/// For `f2 = f` a planar piece is parallel to every direction of its plane, a prism (an open
-/// tube of straight rulings, a folded strip) to its rulings; for the Gauss map `f2 = N` the
-/// triangles of normals are segments along a crease between flat parts and on a cylinder, and
-/// parallel to the axis on a tube whose normals all lie in one plane.
-fn parallel_faces(mesh: &TriMesh, positions: &[[f64; 3]], skipped: &[bool]) -> Vec<ParallelPiece> {
-    let n = mesh.vertex_count();
-    let faces = || {
-        (mesh.faces().iter())
-            .zip(skipped)
-            .filter(|(_, s)| !**s)
-            .map(|(f, _)| f)
-    };
-    let mut pieces = pieces(mesh, skipped);
-    // Roots of pieces with a face (a vertex whose faces are all skipped is in none).
-    let mut present = vec![false; n];
-    for &[a, ..] in faces() {
-        present[pieces.find(a)] = true;
-    }
-    // The unit normal of a triangle that is not a segment (computed in each of the two passes
-    // rather than stored: the memory of a mesh's size, at the peak of the assembly).
-    let normal_of = |&[a, b, c]: &[usize; 3]| {
-        let (p, q, r) = (positions[a], positions[b], positions[c]);
-        let normal = cross(sub(q, p), sub(r, p));
-        let longest = norm(sub(q, p)).max(norm(sub(r, q))).max(norm(sub(p, r)));
-        (norm(normal) > PARALLEL_TOLERANCE * longest * longest).then(|| normalize(normal))
-    };
-    // Per piece: its first normal, and the cross product of it with the normal farthest from
-    // parallel to it, whose direction is the only candidate unless the piece is planar.
-    let mut first: Vec<Option<[f64; 3]>> = vec![None; n];
-    let mut widest = vec![[0.0; 3]; n];
-    let mut segments = vec![false; n];
-    for face in faces() {
-        let root = pieces.find(face[0]);
-        let Some(normal) = normal_of(face) else {
-            segments[root] = true;
-            continue;
-        };
-        match first[root] {
-            None => first[root] = Some(normal),
-            Some(reference) => {
-                let candidate = cross(reference, normal);
-                if norm(candidate) > norm(widest[root]) {
-                    widest[root] = candidate;
-                }
-            }
-        }
-    }
-    let direction: Vec<Option<[f64; 3]>> = (0..n)
-        .map(|root| {
-            let reference = first[root]?;
-            Some(if norm(widest[root]) > PARALLEL_TOLERANCE {
-                normalize(widest[root])
-            } else {
-                // Planar: any direction of the plane; the one across the least aligned axis.
-                let axis = (0..3)
-                    .min_by(|&i, &j| reference[i].abs().total_cmp(&reference[j].abs()))
-                    .map(|i| std::array::from_fn(|k| if k == i { 1.0 } else { 0.0 }))?;
-                normalize(cross(reference, axis))
-            })
-        })
-        .collect();
-    let mut parallel = present;
-    for face in faces() {
-        let root = pieces.find(face[0]);
-        if let Some(u) = direction[root]
-            && let Some(normal) = normal_of(face)
-        {
-            parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
-        }
-    }
-    if !parallel.contains(&true) {
-        return Vec::new(); // the common case: no piece is parallel
-    }
-    let mut found: Vec<Option<ParallelPiece>> = vec![None; n];
-    let mut order = Vec::new();
-    for v in 0..n {
-        let root = pieces.find(v);
-        if !parallel[root] {
-            continue;
-        }
-        let piece = found[root].get_or_insert_with(|| {
-            order.push(root);
-            ParallelPiece {
-                vertices: Vec::new(),
-                direction: direction[root].map(canonical_direction),
-                segments: segments[root],
-            }
-        });
-        piece.vertices.push(v);
-    }
-    order
-        .into_iter()
-        .filter_map(|root| found[root].take())
-        .collect()
-}
-
-/// The [`LinearKernel`] of `D_{f,f2}` with `f2 = positions` (empty when there is none), the
-/// rows of the `skipped` faces vanishing, `masses` the vertex masses of the mesh.
-fn linear_kernel(
-    mesh: &TriMesh,
-    masses: &[f64],
-    positions: &[[f64; 3]],
-    skipped: &[bool],
-    surface: SecondSurface,
-) -> LinearKernel<Quat<f64>> {
-    let mut linear = LinearKernel {
-        surface,
-        modes: Vec::new(),
-        unremoved: None,
-    };
-    if positions.is_empty() {
-        return linear;
-    }
-    for piece in parallel_faces(mesh, positions, skipped) {
-        let (Some(u), false) = (piece.direction, piece.segments) else {
-            linear
-                .unremoved
-                .get_or_insert((piece.vertices[0], piece.direction));
-            continue;
-        };
-        let total: f64 = piece.vertices.iter().map(|&p| masses[p]).sum();
-        let mean: [f64; 3] = std::array::from_fn(|c| {
-            (piece.vertices.iter())
-                .map(|&p| masses[p] * positions[p][c])
-                .sum::<f64>()
-                / total
-        });
-        let u = Quat::from_vector(u);
-        let values = (piece.vertices.iter())
-            .map(|&p| u * Quat::from_vector(sub(positions[p], mean)))
-            .collect();
-        linear.modes.push(SparseVector {
-            rows: piece.vertices,
-            values,
-        });
-    }
-    linear
-}
-
-/// `±u` with its largest component positive and rounding-sized ones zero: the direction as a
-/// reader would write it.
-fn canonical_direction(u: [f64; 3]) -> [f64; 3] {
-    let largest = u
-        .into_iter()
-        .fold(0.0, |a: f64, c| if c.abs() > a.abs() { c } else { a });
-    u.map(|c| {
-        if c.abs() <= 1e-12 {
-            0.0
-        } else {
-            c * largest.signum()
-        }
-    })
 }
 
 /// `ε = 10⁻¹⁰ · Σ_p P_pp / Σ_p M_pp` over the vertices inside the well (`U_p = 0`; all
@@ -653,53 +468,4 @@ fn gershgorin_shift(operator: &SparseMatrix<Quat<f64>>, masses: &[f64]) -> f64 {
     }
     let bound = lower.iter().copied().fold(f64::INFINITY, f64::min);
     1.01 * (-bound).max(0.0) + 1e-8 * scale.max(f64::MIN_POSITIVE)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::generators::{grid, icosphere};
-
-    #[test]
-    fn parallel_faces_finds_planes_segments_and_nothing_on_a_sphere() {
-        let plane = grid(3, 2, 1.0, 1.0).unwrap();
-        let none = vec![false; plane.face_count()];
-        let found = parallel_faces(&plane, plane.positions(), &none);
-        assert_eq!(found.len(), 1);
-        let direction = found[0].direction.unwrap();
-        assert_eq!(
-            found[0].vertices,
-            (0..plane.vertex_count()).collect::<Vec<_>>()
-        );
-        assert!(!found[0].segments);
-        assert!(direction[2] == 0.0 && (norm(direction) - 1.0).abs() < 1e-15);
-
-        // A second surface on one line: every triangle is a segment, parallel to everything.
-        let line: Vec<[f64; 3]> = (0..plane.vertex_count())
-            .map(|v| [v as f64, 2.0 * v as f64, 0.5])
-            .collect();
-        let found = parallel_faces(&plane, &line, &none);
-        assert_eq!((found[0].direction, found[0].segments), (None, true));
-
-        let sphere = icosphere(1);
-        let none = vec![false; sphere.face_count()];
-        assert_eq!(parallel_faces(&sphere, sphere.positions(), &none), vec![]);
-        // With all but two faces far apart skipped, each is a planar piece of its own; the
-        // vertices of skipped faces only are in none.
-        let mut skipped = vec![true; sphere.face_count()];
-        let far = (1..sphere.face_count())
-            .find(|&t| {
-                sphere.faces()[t]
-                    .iter()
-                    .all(|v| !sphere.faces()[0].contains(v))
-            })
-            .unwrap();
-        (skipped[0], skipped[far]) = (false, false);
-        let mut want = vec![sphere.faces()[0].to_vec(), sphere.faces()[far].to_vec()];
-        want.iter_mut().for_each(|v| v.sort_unstable());
-        want.sort();
-        let found = parallel_faces(&sphere, sphere.positions(), &skipped);
-        let got: Vec<Vec<usize>> = found.into_iter().map(|p| p.vertices).collect();
-        assert_eq!(got, want);
-    }
 }

@@ -1,0 +1,783 @@
+//! What the structure of a first-order operator `D_{f,f2}` tells of its kernel (docs/MATH.md,
+//! "The exact kernel"): the pieces a kernel vector is constant on, the linear functions `u f2`
+//! of the pieces parallel to one direction, and the pieces where more may be in the kernel.
+//! Up to the factor `−1/(2A_t)` the row of face `t` is `Σ_p (f2_r − f2_q) ψ_p` over its corners
+//! `p`, `q → r` the edge opposite `p`: what it asks of a kernel vector depends only on the
+//! triangle of `f2` ([`SecondTriangle`]).
+
+use std::collections::{HashMap, HashSet};
+
+use qscalar::{Quat, Scalar};
+use qsparse::{DenseMatrix, DisjointSets, SparseVector};
+
+use super::SecondSurface;
+use super::kernel::length_scale;
+use crate::TriMesh;
+use crate::geometry::{cross, dot, norm, normalize, sub};
+
+/// What the structure of a first-order operator `D_{f,f2}` tells of its kernel
+/// (docs/MATH.md, "The exact kernel"): the pieces a kernel vector is constant on, and the
+/// linear functions `u f2` it annihilates besides the constants, on the pieces where every
+/// triangle of `f2` is parallel to one direction `u` ([`parallel_faces`]).
+#[derive(Debug, Clone)]
+pub(super) struct FirstOrderKernel<T> {
+    /// Which surface `f2` is.
+    pub surface: SecondSurface,
+    /// The pieces ([`kernel_pieces`]): finer than the components of the faces that are not
+    /// skipped where two corners of a triangle of `f2` coincide.
+    pub pieces: DisjointSets,
+    /// `u (f2 − f̄2)` on each parallel piece with no segment, `f̄2` the mass-weighted mean
+    /// over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
+    /// exactly the constant and this function.
+    pub linear: Vec<SparseVector<T>>,
+    /// The first piece whose kernel may be larger than what is removed: the spectrum stops
+    /// there with an error.
+    pub unremoved: Option<Unremoved>,
+}
+
+/// A piece of the kernel of `D_{f,f2}` that may hold more than its constant and `u f2`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Unremoved {
+    /// A parallel piece where some triangles are segments of three distinct points, whose rows
+    /// annihilate the functions linear along each segment too: its smallest vertex and `u`
+    /// (`None`: every triangle a segment).
+    Segments {
+        vertex: usize,
+        direction: Option<[f64; 3]>,
+    },
+    /// A piece with [`SecondTriangle::Pair`]s whose kernel ([`larger_kernel_on_rulings`]) is
+    /// larger than its constant and `u f2`: its smallest vertex and the dimension beyond those
+    /// (`None`: not computed, for more parameters than [`PARAMETERS_COMPUTED`] or a failed
+    /// eigensolve).
+    Rulings {
+        vertex: usize,
+        excess: Option<usize>,
+    },
+}
+
+/// Unit face normals within this of perpendicular to a direction are parallel to it, triangles
+/// whose height is below this times their longest edge are segments, two of whose corners
+/// closer than this times that edge coincide, and triangles whose longest edge is below this
+/// times the size of the second surface are points (rounding leaves `~10⁻¹⁶`, and `10⁻¹³` on
+/// sliver faces).
+const PARALLEL_TOLERANCE: f64 = 1e-10;
+
+/// A triangle of the second surface `f2`, by what its row of `D_{f,f2}` asks of a kernel vector
+/// `ψ`: up to the factor `−1/(2A)`, the row is `Σ_p (f2_r − f2_q) ψ_p` over its corners `p`, with
+/// `q → r` the edge opposite `p`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SecondTriangle {
+    /// Its corners coincide: the row vanishes and asks nothing.
+    Point,
+    /// Two corners `a`, `b` coincide and the third `c` does not: the row is `(f2_c − f2_a)(ψ_a −
+    /// ψ_b)` up to sign (the third corner's coefficient vanishes), and asks only `ψ_a = ψ_b`.
+    /// A crease between flat parts and a cylinder with its vertices on straight rulings give
+    /// such triangles of normals.
+    Pair(usize, usize),
+    /// Three distinct points on one line: the row annihilates the functions linear along the
+    /// line as well as the constants.
+    Segment,
+    /// A proper triangle, with its unit normal: the row annihilates the constants and, on three
+    /// corners, the linear functions `u f2` for `u` in its plane.
+    Triangle([f64; 3]),
+}
+
+/// The triangles of a second surface `f2` (one point per vertex of the mesh).
+struct SecondTriangles<'a> {
+    positions: &'a [[f64; 3]],
+    /// The diagonal of its bounding box, against which a [`SecondTriangle::Point`] is measured.
+    size: f64,
+    /// For the Gauss map: the mesh's positions and `flat tolerance / √area`. Two normals
+    /// coincide only along an edge that is flat too (`|N_a − N_b| ≤ tolerance · |f_a − f_b| /
+    /// √area`, [`super::kernel::flat_faces`]): with tolerance 0, only exactly equal normals do,
+    /// and normals that differ by noise keep the rows that see it.
+    flat_edges: Option<(&'a [[f64; 3]], f64)>,
+}
+
+impl<'a> SecondTriangles<'a> {
+    fn new(positions: &'a [[f64; 3]], flat_edges: Option<(&'a [[f64; 3]], f64)>) -> Self {
+        let (mut low, mut high) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in positions {
+            for c in 0..3 {
+                (low[c], high[c]) = (low[c].min(p[c]), high[c].max(p[c]));
+            }
+        }
+        let size = if positions.is_empty() {
+            0.0
+        } else {
+            norm(sub(high, low))
+        };
+        Self {
+            positions,
+            size,
+            flat_edges,
+        }
+    }
+
+    /// Whether corners `a` and `b`, at distance `distance` in `f2`, coincide within `bound`.
+    fn coincide(&self, a: usize, b: usize, distance: f64, bound: f64) -> bool {
+        distance <= bound
+            && self.flat_edges.is_none_or(|(mesh, per_length)| {
+                distance <= per_length * norm(sub(mesh[a], mesh[b]))
+            })
+    }
+
+    /// What the triangle of `face` is (computed where needed rather than stored: the memory of
+    /// a mesh's size, at the peak of the assembly).
+    fn classify(&self, [a, b, c]: [usize; 3]) -> SecondTriangle {
+        let (p, q, r) = (self.positions[a], self.positions[b], self.positions[c]);
+        let edges = [norm(sub(r, q)), norm(sub(p, r)), norm(sub(q, p))];
+        let longest = edges[0].max(edges[1]).max(edges[2]);
+        // The edge opposite a corner joins the other two.
+        let pairs = [(b, c), (c, a), (a, b)];
+        let point = PARALLEL_TOLERANCE * self.size;
+        if (0..3).all(|i| self.coincide(pairs[i].0, pairs[i].1, edges[i], point)) {
+            return SecondTriangle::Point;
+        }
+        let pair = PARALLEL_TOLERANCE * longest;
+        if let Some(i) = (0..3).find(|&i| self.coincide(pairs[i].0, pairs[i].1, edges[i], pair)) {
+            return SecondTriangle::Pair(pairs[i].0, pairs[i].1);
+        }
+        let normal = cross(sub(q, p), sub(r, p));
+        if norm(normal) > PARALLEL_TOLERANCE * longest * longest {
+            SecondTriangle::Triangle(normalize(normal))
+        } else {
+            SecondTriangle::Segment
+        }
+    }
+}
+
+/// The pieces of the kernel of `D_{f,f2}` (faces `skipped` have vanishing rows): vertices joined
+/// by every triangle of `f2` that ties their values in a kernel vector, all three corners of a
+/// [`SecondTriangle::Triangle`] or a [`SecondTriangle::Segment`], the two coinciding corners of
+/// a [`SecondTriangle::Pair`]. A kernel vector constant on each piece satisfies every row; on a
+/// crease from boundary to boundary or a cylinder of straight rulings the pieces are the
+/// rulings, each with its own constant.
+fn kernel_pieces(mesh: &TriMesh, triangles: &SecondTriangles, skipped: &[bool]) -> DisjointSets {
+    let mut pieces = DisjointSets::new(mesh.vertex_count());
+    for (&[a, b, c], _) in mesh.faces().iter().zip(skipped).filter(|(_, s)| !**s) {
+        match triangles.classify([a, b, c]) {
+            SecondTriangle::Point => {}
+            SecondTriangle::Pair(p, q) => pieces.union(p, q),
+            SecondTriangle::Segment | SecondTriangle::Triangle(_) => {
+                pieces.union(a, b);
+                pieces.union(b, c);
+            }
+        }
+    }
+    pieces
+}
+
+/// A piece of the kernel ([`kernel_pieces`]) on which every proper triangle of a second surface
+/// `f2` is parallel to one unit direction.
+#[derive(Debug, Clone, PartialEq)]
+struct ParallelPiece {
+    /// Its vertices, ascending.
+    vertices: Vec<usize>,
+    /// The direction `u` (`|u · n_t| ≤` [`PARALLEL_TOLERANCE`] for the unit normals `n_t` of its
+    /// proper triangles); `None` if it has none, only segments (parallel to every direction).
+    direction: Option<[f64; 3]>,
+    /// Whether some triangle is a segment of three distinct points.
+    segments: bool,
+}
+
+/// The pieces of the kernel of `D_{f,f2}` ([`kernel_pieces`], faces `skipped`) with a proper
+/// triangle or a segment of `f2`, every one of which is parallel to one unit direction `u`, by
+/// smallest vertex.
+///
+/// On such a piece `D_{f,f2}` annihilates, besides the constant, the linear function `u f2 q`
+/// (`f2` itself if every triangle is a segment): `df2 ∧ d(u f2) = df2(X) u df2(Y) − df2(Y) u
+/// df2(X)` vanishes when the three vectors lie in one plane, or `df2(X)` and `df2(Y)` on one
+/// line, which they do on every face, and the discrete operator is exact on linear functions;
+/// the rows of [`SecondTriangle::Pair`]s ask only equal values where `f2` is equal. For `f2 = f`
+/// a planar piece is parallel to every direction of its plane, a prism (an open tube of
+/// straight rulings, a folded strip) to its rulings; for the Gauss map `f2 = N` the triangles
+/// of normals are parallel to the axis on a tube whose normals all lie in one plane, and to the
+/// crease along a crease between flat parts.
+fn parallel_faces(
+    mesh: &TriMesh,
+    triangles: &SecondTriangles,
+    skipped: &[bool],
+    pieces: &mut DisjointSets,
+) -> Vec<ParallelPiece> {
+    let n = mesh.vertex_count();
+    let faces = || {
+        (mesh.faces().iter())
+            .zip(skipped)
+            .filter(|(_, s)| !**s)
+            .map(|(&f, _)| (f, triangles.classify(f)))
+    };
+    // Per piece: whether it has a proper triangle or a segment, the direction its normals may
+    // share, and whether it has a segment.
+    let mut present = vec![false; n];
+    let mut shared = vec![SharedDirection::default(); n];
+    let mut segments = vec![false; n];
+    for (face, triangle) in faces() {
+        let root = pieces.find(face[0]);
+        match triangle {
+            SecondTriangle::Point | SecondTriangle::Pair(..) => continue,
+            SecondTriangle::Segment => segments[root] = true,
+            SecondTriangle::Triangle(normal) => shared[root].add(normal),
+        }
+        present[root] = true;
+    }
+    let direction: Vec<Option<[f64; 3]>> = shared.iter().map(SharedDirection::candidate).collect();
+    drop(shared);
+    let mut parallel = present;
+    for (face, triangle) in faces() {
+        let root = pieces.find(face[0]);
+        if let (Some(u), SecondTriangle::Triangle(normal)) = (direction[root], triangle) {
+            parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
+        }
+    }
+    if !parallel.contains(&true) {
+        return Vec::new(); // the common case: no piece is parallel
+    }
+    let mut found: Vec<Option<ParallelPiece>> = vec![None; n];
+    let mut order = Vec::new();
+    for v in 0..n {
+        let root = pieces.find(v);
+        if !parallel[root] {
+            continue;
+        }
+        let piece = found[root].get_or_insert_with(|| {
+            order.push(root);
+            ParallelPiece {
+                vertices: Vec::new(),
+                direction: direction[root].map(canonical_direction),
+                segments: segments[root],
+            }
+        });
+        piece.vertices.push(v);
+    }
+    order
+        .into_iter()
+        .filter_map(|root| found[root].take())
+        .collect()
+}
+
+/// The [`FirstOrderKernel`] of `D_{f,f2}` with `f2 = positions` (one point per vertex), the rows
+/// of the `skipped` faces vanishing, `masses` the vertex masses of the mesh, the well's
+/// `potential`, and for the Gauss map the flat tolerance ([`SecondTriangles`]).
+pub(super) fn first_order_kernel(
+    mesh: &TriMesh,
+    masses: &[f64],
+    positions: &[[f64; 3]],
+    skipped: &[bool],
+    potential: Option<&[f64]>,
+    flat_tolerance: Option<f64>,
+    surface: SecondSurface,
+) -> FirstOrderKernel<Quat<f64>> {
+    let flat_edges = flat_tolerance.map(|t| (mesh.positions(), t / length_scale(mesh)));
+    let triangles = SecondTriangles::new(positions, flat_edges);
+    let mut pieces = kernel_pieces(mesh, &triangles, skipped);
+    let parallel = parallel_faces(mesh, &triangles, skipped, &mut pieces);
+    let mut kernel = FirstOrderKernel {
+        surface,
+        pieces,
+        linear: Vec::new(),
+        unremoved: None,
+    };
+    let mut linear_pieces = HashSet::new();
+    for piece in parallel {
+        let (Some(u), false) = (piece.direction, piece.segments) else {
+            kernel.unremoved.get_or_insert(Unremoved::Segments {
+                vertex: piece.vertices[0],
+                direction: piece.direction,
+            });
+            continue;
+        };
+        linear_pieces.insert(kernel.pieces.find(piece.vertices[0]));
+        let total: f64 = piece.vertices.iter().map(|&p| masses[p]).sum();
+        let mean: [f64; 3] = std::array::from_fn(|c| {
+            (piece.vertices.iter())
+                .map(|&p| masses[p] * positions[p][c])
+                .sum::<f64>()
+                / total
+        });
+        let u = Quat::from_vector(u);
+        let values = (piece.vertices.iter())
+            .map(|&p| u * Quat::from_vector(sub(positions[p], mean)))
+            .collect();
+        kernel.linear.push(SparseVector {
+            rows: piece.vertices,
+            values,
+        });
+    }
+    if kernel.unremoved.is_none() {
+        kernel.unremoved = larger_kernel_on_rulings(
+            mesh,
+            &triangles,
+            skipped,
+            potential,
+            &mut kernel.pieces,
+            &linear_pieces,
+        );
+    }
+    kernel
+}
+
+/// Pieces whose kernel propagation does not bound, and whose rigid parts have more
+/// parameters than this, are not counted (a dense Hermitian eigensolve of this order takes
+/// about 0.1 s).
+pub(super) const PARAMETERS_COMPUTED: usize = 256;
+
+/// The first piece with [`SecondTriangle::Pair`]s (by smallest vertex) whose kernel is larger
+/// than its constant and, on the `linear_pieces` (roots), `u f2`; `None` if there is none.
+///
+/// The pieces join the three corners of proper triangles, which presumes that a kernel vector
+/// is one constant (and one multiple of `u f2`) on all of them. That holds where proper
+/// triangles share edges: two corners of distinct `f2` fix both parameters of a face's kernel
+/// `α + (u f2) β`, and so those of its neighbour across the edge. But a piece can be held
+/// together by *rulings* (the classes of coinciding corners, one value each) that meet proper
+/// triangles at single vertices, as where the normals of a crease turn at the boundary, and
+/// then each ruling may carry its own value. So the kernel of each piece with pairs is counted
+/// ([`RuledPieces`]). Pieces where the well's `potential` is not zero are skipped: their rows
+/// are not those of `D_{f,f2}`, and their constants are no kernel vectors anyway.
+fn larger_kernel_on_rulings(
+    mesh: &TriMesh,
+    triangles: &SecondTriangles,
+    skipped: &[bool],
+    potential: Option<&[f64]>,
+    pieces: &mut DisjointSets,
+    linear_pieces: &HashSet<usize>,
+) -> Option<Unremoved> {
+    let ruled = RuledPieces::new(mesh, triangles, skipped, potential, pieces)?;
+    let bound = ruled.propagated_bound();
+    let mut roots: Vec<usize> = (0..mesh.vertex_count())
+        .filter(|&r| ruled.ruled[r] && ruled.pieces.find(r) == r)
+        .collect();
+    roots.sort_by_key(|&r| ruled.smallest[r]);
+    for root in roots {
+        let known = 1 + usize::from(linear_pieces.contains(&root));
+        if bound[root] <= known {
+            continue;
+        }
+        let vertex = ruled.smallest[root];
+        let Some(dimension) = ruled.dimension(root) else {
+            return Some(Unremoved::Rulings {
+                vertex,
+                excess: None,
+            });
+        };
+        if dimension > known {
+            return Some(Unremoved::Rulings {
+                vertex,
+                excess: Some(dimension - known),
+            });
+        }
+    }
+    None
+}
+
+/// Where a ruling meets a rigid part: at `vertex` (one per ruling and part).
+#[derive(Debug, Clone, Copy)]
+struct Contact {
+    ruling: usize,
+    part: usize,
+    vertex: usize,
+}
+
+/// A rigid part of a piece with rulings ([`RuledPieces`]).
+#[derive(Debug, Clone, Copy)]
+struct RigidPart {
+    /// The root of its piece.
+    piece: usize,
+    /// The index of its first parameter `α` within the piece (`β` follows).
+    offset: usize,
+    /// `u` if it has a `β`: every triangle parallel to it.
+    direction: Option<[f64; 3]>,
+    /// The longest edge of `f2` among its faces.
+    size: f64,
+}
+
+/// The pieces of the kernel with [`SecondTriangle::Pair`]s, as rulings and rigid parts.
+///
+/// On each *rigid part* (proper triangles and segments connected through edges) a kernel
+/// vector is `α + (u f2) β`, with `β` only where the part is parallel to one direction `u` (a
+/// segment annihilates the functions affine along it, `α + (u f2) β` for any `u`): one or two
+/// quaternionic parameters. On each *ruling* (vertices joined by coinciding corners) it is one
+/// value. A ruling that meets several parts asks their values to agree there, and a ruling
+/// that meets none is free: the dimension of the kernel on a piece is its free rulings plus
+/// its parameters minus the rank of the agreements.
+struct RuledPieces<'a> {
+    pieces: &'a mut DisjointSets,
+    /// By piece root: whether it has pairs (and no potential).
+    ruled: Vec<bool>,
+    /// By piece root: its smallest vertex.
+    smallest: Vec<usize>,
+    /// By piece root: its rulings that meet no part.
+    free: Vec<usize>,
+    /// By piece root: the parameters of its parts.
+    parameters: Vec<usize>,
+    /// By part: the root face of its faces.
+    parts: HashMap<usize, RigidPart>,
+    /// Sorted by ruling, then part.
+    contacts: Vec<Contact>,
+    positions: &'a [[f64; 3]],
+}
+
+impl<'a> RuledPieces<'a> {
+    /// `None` when no piece has pairs (the common case).
+    fn new(
+        mesh: &TriMesh,
+        triangles: &'a SecondTriangles,
+        skipped: &[bool],
+        potential: Option<&[f64]>,
+        pieces: &'a mut DisjointSets,
+    ) -> Option<Self> {
+        let (n, m) = (mesh.vertex_count(), mesh.face_count());
+        let f2 = triangles.positions;
+        let faces = || {
+            (mesh.faces().iter().enumerate())
+                .zip(skipped)
+                .filter(|(_, s)| !**s)
+                .map(|((t, &f), _)| (t, f, triangles.classify(f)))
+        };
+        let mut rulings = DisjointSets::new(n);
+        let mut ruled = vec![false; n];
+        for (_, _, triangle) in faces() {
+            if let SecondTriangle::Pair(a, b) = triangle {
+                rulings.union(a, b);
+                ruled[pieces.find(a)] = true;
+            }
+        }
+        if let Some(u) = potential {
+            (0..n)
+                .filter(|&p| u[p] != 0.0)
+                .for_each(|p| ruled[pieces.find(p)] = false);
+        }
+        if !ruled.contains(&true) {
+            return None;
+        }
+        // The rigid parts: faces joined through shared edges.
+        let mut parts = DisjointSets::new(m);
+        let mut rigid = vec![false; m];
+        let mut edges: HashMap<(usize, usize), usize> = HashMap::new();
+        for (t, face, triangle) in faces() {
+            if matches!(triangle, SecondTriangle::Point | SecondTriangle::Pair(..))
+                || !ruled[pieces.find(face[0])]
+            {
+                continue;
+            }
+            rigid[t] = true;
+            for (a, b) in [(face[0], face[1]), (face[1], face[2]), (face[2], face[0])] {
+                let other = *edges.entry((a.min(b), a.max(b))).or_insert(t);
+                parts.union(t, other);
+            }
+        }
+        drop(edges);
+        let mut shared: HashMap<usize, (SharedDirection, f64)> = HashMap::new();
+        for (t, face, triangle) in faces().filter(|(t, ..)| rigid[*t]) {
+            let (direction, size) = shared.entry(parts.find(t)).or_default();
+            if let SecondTriangle::Triangle(normal) = triangle {
+                direction.add(normal);
+            }
+            let [a, b, c] = face.map(|p| f2[p]);
+            *size = size
+                .max(norm(sub(b, a)))
+                .max(norm(sub(c, b)))
+                .max(norm(sub(a, c)));
+        }
+        // `u` per part where it has a `β`: a part of segments only takes any.
+        let mut direction: HashMap<usize, Option<[f64; 3]>> = (shared.iter())
+            .map(|(&part, (d, _))| {
+                (
+                    part,
+                    d.first.map_or(Some([1.0, 0.0, 0.0]), |_| d.candidate()),
+                )
+            })
+            .collect();
+        for (t, _, triangle) in faces().filter(|(t, ..)| rigid[*t]) {
+            if let (Some(u), SecondTriangle::Triangle(normal)) =
+                (direction.get_mut(&parts.find(t)), triangle)
+                && u.is_some_and(|axis| dot(axis, normal).abs() > PARALLEL_TOLERANCE)
+            {
+                *u = None;
+            }
+        }
+        let mut parameters = vec![0; n];
+        let mut rigid_parts = HashMap::new();
+        let mut contacts = Vec::new();
+        for (t, face, _) in faces().filter(|(t, ..)| rigid[*t]) {
+            let (part, piece) = (parts.find(t), pieces.find(face[0]));
+            rigid_parts.entry(part).or_insert_with(|| {
+                let offset = parameters[piece];
+                parameters[piece] += 1 + usize::from(direction[&part].is_some());
+                RigidPart {
+                    piece,
+                    offset,
+                    direction: direction[&part],
+                    size: shared[&part].1,
+                }
+            });
+            contacts.extend(face.map(|vertex| Contact {
+                ruling: rulings.find(vertex),
+                part,
+                vertex,
+            }));
+        }
+        contacts.sort_unstable_by_key(|c| (c.ruling, c.part));
+        contacts.dedup_by_key(|c| (c.ruling, c.part));
+        let mut touched = vec![false; n];
+        contacts.iter().for_each(|c| touched[c.ruling] = true);
+        let (mut free, mut smallest) = (vec![0; n], vec![usize::MAX; n]);
+        for v in 0..n {
+            let piece = pieces.find(v);
+            if ruled[piece] {
+                smallest[piece] = smallest[piece].min(v);
+                let ruling = rulings.find(v);
+                free[piece] += usize::from(!touched[ruling]);
+                touched[ruling] = true;
+            }
+        }
+        Some(Self {
+            pieces,
+            ruled,
+            smallest,
+            free,
+            parameters,
+            parts: rigid_parts,
+            contacts,
+            positions: f2,
+        })
+    }
+
+    /// The parameters of a part.
+    fn parameters_of(&self, part: usize) -> usize {
+        1 + usize::from(self.parts[&part].direction.is_some())
+    }
+
+    /// By piece root, an upper bound of the dimension of its kernel: its free rulings plus the
+    /// parameters of the parts that must be chosen (seeds, one-parameter parts and those with
+    /// the most contacts first) for the agreements to determine every other part. A ruling is
+    /// determined once a part it meets is; a part once one of its contacts is (one parameter)
+    /// or two with distinct `f2` (two parameters).
+    fn propagated_bound(&self) -> Vec<usize> {
+        let mut by_part: HashMap<usize, Vec<Contact>> = HashMap::new();
+        self.contacts
+            .iter()
+            .for_each(|c| by_part.entry(c.part).or_default().push(*c));
+        let mut by_ruling: HashMap<usize, &[Contact]> = HashMap::new();
+        for group in self.contacts.chunk_by(|a, b| a.ruling == b.ruling) {
+            by_ruling.insert(group[0].ruling, group);
+        }
+        let mut order: Vec<usize> = by_part.keys().copied().collect();
+        order.sort_by_key(|&p| (self.parameters_of(p), usize::MAX - by_part[&p].len(), p));
+        let mut bound = self.free.clone();
+        let mut done: HashSet<usize> = HashSet::new();
+        let mut rulings_done: HashSet<usize> = HashSet::new();
+        let mut first_contact: HashMap<usize, [f64; 3]> = HashMap::new();
+        for seed in order {
+            if !done.insert(seed) {
+                continue;
+            }
+            bound[self.parts[&seed].piece] += self.parameters_of(seed);
+            let mut queue = vec![seed];
+            while let Some(part) = queue.pop() {
+                for contact in &by_part[&part] {
+                    if !rulings_done.insert(contact.ruling) {
+                        continue;
+                    }
+                    let point = self.positions[contact.vertex];
+                    for other in by_ruling[&contact.ruling].iter().map(|c| c.part) {
+                        if done.contains(&other) {
+                            continue;
+                        }
+                        let part = &self.parts[&other];
+                        let determined = part.direction.is_none()
+                            || first_contact.get(&other).is_some_and(|&first| {
+                                norm(sub(point, first)) > PARALLEL_TOLERANCE * part.size
+                            });
+                        first_contact.entry(other).or_insert(point);
+                        if determined {
+                            done.insert(other);
+                            queue.push(other);
+                        }
+                    }
+                }
+            }
+        }
+        bound
+    }
+
+    /// The dimension of the kernel on the piece of `root`, counted densely: the eigenvalues of
+    /// `CᴴC` (each row of the agreements `C` scaled to largest entry 1) at most `10⁻⁹` of the
+    /// largest. A part's value at `v` is `α + k_v β`, `k_v = u (f2_v − f2_a)/size` from a corner
+    /// `a` of the part, of order 1. `None` above [`PARAMETERS_COMPUTED`] or if the eigensolve
+    /// fails.
+    fn dimension(&self, root: usize) -> Option<usize> {
+        let count = self.parameters[root];
+        if count > PARAMETERS_COMPUTED {
+            return None;
+        }
+        if count == 0 {
+            return Some(self.free[root]);
+        }
+        let mut anchor: HashMap<usize, usize> = HashMap::new();
+        let mut normal = DenseMatrix::<Quat<f64>>::zeros(count, count);
+        for group in self.contacts.chunk_by(|a, b| a.ruling == b.ruling) {
+            let first = group[0];
+            if self.parts[&first.part].piece != root {
+                continue;
+            }
+            let mut value = |c: &Contact| {
+                let part = &self.parts[&c.part];
+                let a = *anchor.entry(c.part).or_insert(c.vertex);
+                let mut row = vec![(part.offset, Quat::from_real(1.0))];
+                if let Some(u) = part.direction {
+                    let relative = sub(self.positions[c.vertex], self.positions[a])
+                        .map(|x| x / part.size.max(f64::MIN_POSITIVE));
+                    let k = Quat::from_vector(u) * Quat::from_vector(relative);
+                    row.push((part.offset + 1, k));
+                }
+                row
+            };
+            let reference = value(&first);
+            for other in &group[1..] {
+                let mut row = reference.clone();
+                row.extend(value(other).into_iter().map(|(j, c)| (j, -c)));
+                let largest = row.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
+                for &(j, a) in &row {
+                    for &(k, b) in &row {
+                        normal.col_mut(k)[j] += (a.conj() * b).scale(1.0 / (largest * largest));
+                    }
+                }
+            }
+        }
+        let eigen = qeig::dense::hermitian_eigen(&normal).ok()?;
+        let top = eigen.values.iter().fold(0.0f64, |m, v| m.max(*v));
+        let rank = eigen.values.iter().filter(|&&v| v > 1e-9 * top).count();
+        Some(self.free[root] + count - rank)
+    }
+}
+
+/// The one direction a set of unit normals may all be perpendicular to: the cross product of
+/// the first with the one farthest from parallel to it, or, if all are parallel, a direction
+/// of their plane.
+#[derive(Debug, Clone, Copy, Default)]
+struct SharedDirection {
+    first: Option<[f64; 3]>,
+    widest: [f64; 3],
+}
+
+impl SharedDirection {
+    fn add(&mut self, normal: [f64; 3]) {
+        match self.first {
+            None => self.first = Some(normal),
+            Some(reference) => {
+                let candidate = cross(reference, normal);
+                if norm(candidate) > norm(self.widest) {
+                    self.widest = candidate;
+                }
+            }
+        }
+    }
+
+    /// The candidate unit direction (`None` before any normal); whether every normal is
+    /// perpendicular to it is for the caller to check.
+    fn candidate(&self) -> Option<[f64; 3]> {
+        let reference = self.first?;
+        Some(if norm(self.widest) > PARALLEL_TOLERANCE {
+            normalize(self.widest)
+        } else {
+            // Planar: any direction of the plane; the one across the least aligned axis.
+            let axis = (0..3)
+                .min_by(|&i, &j| reference[i].abs().total_cmp(&reference[j].abs()))
+                .map(|i| std::array::from_fn(|k| if k == i { 1.0 } else { 0.0 }))?;
+            normalize(cross(reference, axis))
+        })
+    }
+}
+
+/// `±u` with its largest component positive and rounding-sized ones zero: the direction as a
+/// reader would write it.
+fn canonical_direction(u: [f64; 3]) -> [f64; 3] {
+    let largest = u
+        .into_iter()
+        .fold(0.0, |a: f64, c| if c.abs() > a.abs() { c } else { a });
+    u.map(|c| {
+        if c.abs() <= 1e-12 {
+            0.0
+        } else {
+            c * largest.signum()
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generators::{grid, icosphere};
+
+    /// [`parallel_faces`] on the pieces of the kernel.
+    fn parallel(mesh: &TriMesh, f2: &[[f64; 3]], skipped: &[bool]) -> Vec<ParallelPiece> {
+        let triangles = SecondTriangles::new(f2, None);
+        let mut pieces = kernel_pieces(mesh, &triangles, skipped);
+        parallel_faces(mesh, &triangles, skipped, &mut pieces)
+    }
+
+    #[test]
+    fn triangles_of_the_second_surface_are_classified_by_what_their_rows_ask() {
+        let f2 = [
+            [0.0, 0.0, 0.0],
+            [1e-17, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 1e-12],
+            [0.0, 1.0, 0.0],
+            [1e-12, 1.0, 0.0],
+        ];
+        let triangles = SecondTriangles::new(&f2, None);
+        assert_eq!(triangles.classify([2, 0, 1]), SecondTriangle::Pair(0, 1));
+        assert_eq!(triangles.classify([0, 2, 1]), SecondTriangle::Pair(1, 0));
+        assert_eq!(triangles.classify([0, 2, 3]), SecondTriangle::Segment);
+        assert_eq!(triangles.classify([4, 5, 4]), SecondTriangle::Point);
+        let SecondTriangle::Triangle(normal) = triangles.classify([0, 2, 4]) else {
+            panic!("a proper triangle");
+        };
+        assert!(norm(sub(normal, [0.0, 0.0, 1.0])) < 1e-15);
+    }
+
+    #[test]
+    fn parallel_faces_finds_planes_segments_and_nothing_on_a_sphere() {
+        let plane = grid(3, 2, 1.0, 1.0).unwrap();
+        let none = vec![false; plane.face_count()];
+        let found = parallel(&plane, plane.positions(), &none);
+        assert_eq!(found.len(), 1);
+        let direction = found[0].direction.unwrap();
+        assert_eq!(
+            found[0].vertices,
+            (0..plane.vertex_count()).collect::<Vec<_>>()
+        );
+        assert!(!found[0].segments);
+        assert!(direction[2] == 0.0 && (norm(direction) - 1.0).abs() < 1e-15);
+
+        // A second surface on one line: every triangle is a segment, parallel to everything.
+        let line: Vec<[f64; 3]> = (0..plane.vertex_count())
+            .map(|v| [v as f64, 2.0 * v as f64, 0.5])
+            .collect();
+        let found = parallel(&plane, &line, &none);
+        assert_eq!((found[0].direction, found[0].segments), (None, true));
+
+        let sphere = icosphere(1);
+        let none = vec![false; sphere.face_count()];
+        assert_eq!(parallel(&sphere, sphere.positions(), &none), vec![]);
+        // With all but two faces far apart skipped, each is a planar piece of its own; the
+        // vertices of skipped faces only are in none.
+        let mut skipped = vec![true; sphere.face_count()];
+        let far = (1..sphere.face_count())
+            .find(|&t| {
+                sphere.faces()[t]
+                    .iter()
+                    .all(|v| !sphere.faces()[0].contains(v))
+            })
+            .unwrap();
+        (skipped[0], skipped[far]) = (false, false);
+        let mut want = vec![sphere.faces()[0].to_vec(), sphere.faces()[far].to_vec()];
+        want.iter_mut().for_each(|v| v.sort_unstable());
+        want.sort();
+        let found = parallel(&sphere, sphere.positions(), &skipped);
+        let got: Vec<Vec<usize>> = found.into_iter().map(|p| p.vertices).collect();
+        assert_eq!(got, want);
+    }
+}
