@@ -71,7 +71,7 @@ pub(super) struct KernelMode<T> {
 }
 
 /// An orthogonally coupled mode as the pinned form restores it: orthogonalised against the
-/// earlier modes of its piece (see [`ExactKernel::restoration`]).
+/// earlier modes whose images share rows with its own (see [`ExactKernel::restoration`]).
 #[derive(Debug, Clone)]
 pub(super) struct Restoration<T> {
     /// `k'`, the mode minus its earlier modes' parts.
@@ -88,8 +88,11 @@ pub(super) struct ExactKernel<T> {
     /// The modes, by piece: the constant first, then a linear mode if the piece has one.
     pub modes: Vec<KernelMode<T>>,
     /// For the pinned form: the orthogonally coupled modes, with the images of the modes of
-    /// one piece orthogonalised in turn (pieces do not share rows of `Q`), so that the least
-    /// squares restoration `x ← x + Σ k'_i (g'_i* r)/(λ |g'_i|²)` of one residual `r` is exact.
+    /// a group orthogonalised in turn, a group being the modes whose images are joined by
+    /// shared rows of `Q` (the modes of a piece; pieces next to each other across a face whose
+    /// row does not vanish, as rulings are), so that every two images are orthogonal and the
+    /// least squares restoration `x ← x + Σ k'_i (g'_i* r)/(λ |g'_i|²)` of one residual `r` is
+    /// exact.
     pub restoration: Vec<Restoration<T>>,
 }
 
@@ -142,7 +145,6 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         }
         let mut accumulator = Accumulator::new(n);
         let mut modes = Vec::new();
-        let mut restoration = Vec::new();
         for (root, vertices) in members.into_iter().enumerate() {
             let Some(&first) = vertices.first() else {
                 continue;
@@ -181,10 +183,9 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             // Against `G = sym(Bᵀ M_F D)` a linear mode is free or orthogonal (`k* G k = 0` for
             // every kernel vector of `D`), so the pinned form never compresses two modes of one
             // piece; against the mass (shifted form) it is oblique, and only constrained.
-            let piece: Vec<KernelMode<T>> = std::iter::once(mode).chain(linear).collect();
-            restoration.extend(orthogonalised(&piece));
-            modes.extend(piece);
+            modes.extend(std::iter::once(mode).chain(linear));
         }
+        let restoration = restorations(&modes, n);
         Self {
             flat_vertices,
             modes,
@@ -240,13 +241,43 @@ pub(super) fn mass_norm_squared<T: Scalar<Real = f64>>(masses: &[f64], k: &Spars
         .sum()
 }
 
-/// The orthogonally coupled modes of one piece with their images orthogonalised in turn
+/// The orthogonally coupled `modes` (images in rows `0..n`) as the pinned form restores them:
+/// grouped by shared rows of their images (union–find over the rows), each group's images
+/// orthogonalised in turn, so that every two images are orthogonal. The modes of a piece share
+/// rows; on most meshes different pieces do not, and a group costs its own supports only.
+fn restorations<T: Scalar<Real = f64>>(modes: &[KernelMode<T>], n: usize) -> Vec<Restoration<T>> {
+    let coupled: Vec<&KernelMode<T>> = modes
+        .iter()
+        .filter(|m| m.coupling == Coupling::Orthogonal)
+        .collect();
+    let mut groups = DisjointSets::new(coupled.len());
+    let mut owner = vec![usize::MAX; n];
+    for (i, mode) in coupled.iter().enumerate() {
+        for &row in &mode.image.rows {
+            if owner[row] == usize::MAX {
+                owner[row] = i;
+            } else {
+                groups.union(i, owner[row]);
+            }
+        }
+    }
+    let mut members: Vec<Vec<&KernelMode<T>>> = vec![Vec::new(); coupled.len()];
+    for (i, mode) in coupled.iter().enumerate() {
+        members[groups.find(i)].push(mode);
+    }
+    members
+        .iter()
+        .flat_map(|group| orthogonalised(group))
+        .collect()
+}
+
+/// Orthogonally coupled modes with their images orthogonalised in turn
 /// (Gram–Schmidt with coefficients on the right): `k'_i = k_i − Σ_{j<i} k'_j α_j`,
 /// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal. Sparse: a
 /// mesh of many pieces pays for their supports only.
-fn orthogonalised<T: Scalar<Real = f64>>(piece: &[KernelMode<T>]) -> Vec<Restoration<T>> {
+fn orthogonalised<T: Scalar<Real = f64>>(modes: &[&KernelMode<T>]) -> Vec<Restoration<T>> {
     let mut done: Vec<Restoration<T>> = Vec::new();
-    for mode in piece.iter().filter(|m| m.coupling == Coupling::Orthogonal) {
+    for mode in modes {
         let (mut vector, mut image) = (mode.vector.clone(), mode.image.clone());
         let before = image.norm_squared();
         for earlier in &done {

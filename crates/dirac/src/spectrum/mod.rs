@@ -66,7 +66,8 @@
 //! (matrices as assembled, dual and mass norms) is at most [`CONVERGED_RESIDUAL_FACTOR`] times
 //! the tolerance, or when its normwise backward error
 //! `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)` is at the rounding floor
-//! [`ROUNDING_BACKWARD_ERROR`]; otherwise [`SpectrumError::NotConverged`] carries the pairs
+//! [`ROUNDING_BACKWARD_ERROR`] (unless `|λ| ‖Q‖` exceeds `‖P‖` by more than its inverse: there
+//! every `x` with `Q x` at rounding level passes, an eigenvalue at infinity); otherwise [`SpectrumError::NotConverged`] carries the pairs
 //! that are.
 
 mod first_order;
@@ -1420,6 +1421,10 @@ struct Residual {
     /// The normwise backward error `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)`: the smallest
     /// relative change of `P` and `Q` for which the pair is exact.
     backward_error: f64,
+    /// `|λ| ‖Q‖ ‖P‖⁻¹` is beyond `1/`[`ROUNDING_BACKWARD_ERROR`]: every `x` with `Q x` at
+    /// rounding level has a backward error at the floor, so it says nothing (an eigenvalue at
+    /// infinity, as where `Q` vanishes on the complement of the kernel of `P`).
+    beyond_floor: bool,
 }
 
 /// A pair whose backward error is at most this is at the rounding floor of its problem: no
@@ -1433,10 +1438,11 @@ pub const CONVERGED_RESIDUAL_FACTOR: f64 = 100.0;
 
 impl Residual {
     /// Converged: relative residual at most [`CONVERGED_RESIDUAL_FACTOR`]` · tolerance`, or
-    /// backward error at most [`ROUNDING_BACKWARD_ERROR`] (at the rounding floor).
+    /// backward error at most [`ROUNDING_BACKWARD_ERROR`] (at the rounding floor) for an
+    /// eigenvalue that is not beyond the floor itself.
     fn is_converged(&self, tolerance: f64) -> bool {
         self.relative <= CONVERGED_RESIDUAL_FACTOR * tolerance
-            || self.backward_error <= ROUNDING_BACKWARD_ERROR
+            || (self.backward_error <= ROUNDING_BACKWARD_ERROR && !self.beyond_floor)
     }
 
     /// The residual of the operator's own eigenproblem (matrices as assembled), with
@@ -1477,6 +1483,7 @@ impl Residual {
         Self {
             relative,
             backward_error: ratio((norms.0 + lambda.abs() * norms.1) * x_norm),
+            beyond_floor: lambda.abs() * norms.1 * ROUNDING_BACKWARD_ERROR > norms.0,
         }
     }
 }
