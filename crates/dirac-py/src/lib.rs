@@ -348,14 +348,22 @@ fn spectrum<'py>(
     })?;
     match result {
         Ok(spectrum) => convert::spectrum_dict(py, &spectrum, eigenvectors),
-        Err(SpectrumError::NotConverged { wanted, partial }) => {
+        Err(SpectrumError::NotConverged {
+            wanted,
+            partial,
+            at_infinity,
+        }) => {
             let details = PyDict::new(py);
             details.set_item("wanted", wanted)?;
             details.set_item(
                 "partial",
                 convert::spectrum_dict(py, &partial, eigenvectors)?,
             )?;
-            let message = SpectrumError::NotConverged { wanted, partial };
+            let message = SpectrumError::NotConverged {
+                wanted,
+                partial,
+                at_infinity,
+            };
             Err(raise(Kind::NotConverged, message, &details))
         }
         Err(e) => Err(spectrum_error(py, &e)),

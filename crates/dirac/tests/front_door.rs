@@ -221,6 +221,7 @@ fn a_progress_callback_can_stop_the_solve_and_keep_what_converged() {
     let Err(SpectrumError::NotConverged {
         wanted: 30,
         partial,
+        ..
     }) = stopped
     else {
         panic!("expected NotConverged, got {stopped:?}");

@@ -316,7 +316,9 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         writeln!(
             out,
             "well        radius {}, centre {center}, steepness {}, height {:e}",
-            w.radius, w.steepness, w.height
+            as_given(w.radius),
+            as_given(w.steepness),
+            w.height
         )?;
     }
     let kernel = &report.kernel;
@@ -381,6 +383,16 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
     )
 }
 
+/// `x` as the shortest text that reads back to it: plain for moderate magnitudes, scientific
+/// otherwise (a radius of `4e-107` is not printed as 107 digits).
+fn as_given(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// `x` with 10 significant digits: fixed-point for moderate magnitudes, scientific otherwise.
 fn significant(x: f64) -> String {
     let magnitude = x.abs();
@@ -396,7 +408,20 @@ fn significant(x: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::significant;
+    use super::{as_given, significant};
+
+    #[test]
+    fn given_values_are_printed_short_and_exact() {
+        for (x, text) in [
+            (0.3, "0.3"),
+            (4e-107, "4e-107"),
+            (100.0, "100"),
+            (2.5e20, "2.5e20"),
+        ] {
+            assert_eq!(as_given(x), text);
+            assert_eq!(as_given(x).parse::<f64>(), Ok(x));
+        }
+    }
 
     #[test]
     fn significant_digits() {

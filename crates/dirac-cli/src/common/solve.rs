@@ -19,6 +19,8 @@ pub struct Solved {
     pub spectrum: Spectrum,
     /// Whether all `k` converged.
     pub converged: bool,
+    /// Pairs found whose eigenvalue is at infinity (none when all converged).
+    pub at_infinity: usize,
     /// Assembly and eigensolve together.
     pub elapsed: Duration,
 }
@@ -36,6 +38,7 @@ impl Solved {
             converged: self.spectrum.eigenvalues.len(),
             wanted,
             doing: doing.to_string(),
+            at_infinity: self.at_infinity,
         })
     }
 }
@@ -85,11 +88,17 @@ pub fn solve_until(
         Ok(spectrum) => Ok(Solved {
             spectrum,
             converged: true,
+            at_infinity: 0,
             elapsed,
         }),
-        Err(SpectrumError::NotConverged { partial, .. }) => Ok(Solved {
+        Err(SpectrumError::NotConverged {
+            partial,
+            at_infinity,
+            ..
+        }) => Ok(Solved {
             spectrum: *partial,
             converged: false,
+            at_infinity,
             elapsed,
         }),
         Err(source) => Err(CliError::Spectrum {

@@ -913,13 +913,40 @@ pub enum SpectrumError {
     },
     /// The eigensolver stopped early; `partial` holds what converged, post-processed like a
     /// full result.
-    #[error("the eigensolver converged {} of {wanted} eigenvalues", partial.eigenvalues.len())]
+    #[error(
+        "the eigensolver converged {} of {wanted} eigenvalues{}",
+        partial.eigenvalues.len(),
+        at_infinity_note(*.at_infinity, partial.eigenvalues.len())
+    )]
     NotConverged {
         /// Eigenvalues asked for.
         wanted: usize,
         /// The converged part.
         partial: Box<Spectrum>,
+        /// Pairs found that are not converged because their eigenvalue is at infinity
+        /// (`|λ| ‖Q‖` beyond `‖P‖ /` [`ROUNDING_BACKWARD_ERROR`]: `Q` vanishes on them to
+        /// rounding); when there are any, the operator has no further finite nonzero
+        /// eigenvalues to find.
+        at_infinity: usize,
     },
+}
+
+/// What [`SpectrumError::NotConverged`] adds when pairs at infinity were found.
+fn at_infinity_note(at_infinity: usize, converged: usize) -> String {
+    match at_infinity {
+        0 => String::new(),
+        count => format!(
+            "; {count} other pair{} found {} eigenvalue{} at infinity (the coupling vanishes \
+             on {} to rounding), so outside its kernel the operator has only {converged} finite \
+             nonzero eigenvalue{} to find: ask for fewer, or use --operator family:T \
+             (0 < T < 1)",
+            if count == 1 { "" } else { "s" },
+            if count == 1 { "is an" } else { "are" },
+            if count == 1 { "" } else { "s" },
+            if count == 1 { "it" } else { "them" },
+            if converged == 1 { "" } else { "s" },
+        ),
+    }
 }
 
 /// The message of [`SpectrumError::NearlySingular`].
@@ -1361,6 +1388,9 @@ fn finish<T: Scalar<Real = f64>>(
         .iter()
         .map(|r| r.is_converged(options.tolerance))
         .collect();
+    let at_infinity = (measured.iter().zip(&converged))
+        .filter(|(r, c)| r.beyond_floor && !**c)
+        .count();
     let residuals = measured.iter().map(|r| r.relative).collect();
     let backward_errors = measured.iter().map(|r| r.backward_error).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
@@ -1381,6 +1411,7 @@ fn finish<T: Scalar<Real = f64>>(
         Err(SpectrumError::NotConverged {
             wanted: options.k,
             partial: Box::new(spectrum),
+            at_infinity,
         })
     }
 }
