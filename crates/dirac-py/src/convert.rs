@@ -218,6 +218,7 @@ pub fn spectrum_dict<'py>(
     dict.set_item("kernel_flat_vertices", spectrum.kernel.flat_vertices)?;
     dict.set_item("kernel_constants", spectrum.kernel.constants)?;
     dict.set_item("kernel_linear_functions", spectrum.kernel.linear_functions)?;
+    dict.set_item("kernel_ruling_functions", spectrum.kernel.ruling_functions)?;
     let s = &spectrum.statistics;
     let statistics = PyDict::new(py);
     statistics.set_item("iterations", s.iterations)?;

@@ -68,6 +68,9 @@ pub struct KernelReport {
     /// Pieces where a linear function of the second surface is in the kernel too (planes and
     /// open prisms for extrinsic Dirac).
     pub linear_functions: usize,
+    /// Kernel vectors of the pieces whose rulings carry more than a constant and a linear
+    /// function, in their place.
+    pub ruling_functions: usize,
 }
 
 /// An array written beside a batch's JSON (`--save`).
@@ -245,6 +248,7 @@ impl Report {
             flat_vertices: spectrum.kernel.flat_vertices,
             constants: spectrum.kernel.constants,
             linear_functions: spectrum.kernel.linear_functions,
+            ruling_functions: spectrum.kernel.ruling_functions,
         };
         self.statistics = StatisticsReport {
             iterations: s.iterations,
@@ -330,6 +334,13 @@ pub fn write_human(report: &Report, out: &mut impl Write) -> io::Result<()> {
         count => format!(
             " + {}",
             plural(count, "linear function", "linear functions")
+        ),
+    };
+    let linear = match kernel.ruling_functions {
+        0 => linear,
+        count => format!(
+            "{linear} + {}",
+            plural(count, "function of rulings", "functions of rulings")
         ),
     };
     writeln!(

@@ -60,6 +60,10 @@ class Spectrum:
         kernel_linear_functions: pieces on which a linear function ``u f2`` of the second surface
             is in the kernel too (every triangle of ``f2`` parallel to one direction ``u``: a
             planar piece or an open prism for ``"extrinsic-dirac"``).
+        kernel_ruling_functions: kernel vectors of the pieces whose rulings (vertices joined by
+            coinciding corners of the triangles of the second surface, as along a crease from
+            boundary to boundary) carry more than a constant and a linear function: a basis of
+            the kernel on each, in their place.
         mass: ``(n,)`` barycentric vertex areas of the mesh as solved (after normalisation).
         scale: factor applied to the positions (1 without normalisation).
         statistics: eigensolver counts and times in seconds.
@@ -76,6 +80,7 @@ class Spectrum:
     kernel_flat_vertices: int
     kernel_constants: int
     kernel_linear_functions: int
+    kernel_ruling_functions: int
     mass: np.ndarray
     scale: float
     statistics: dict[str, float] = field(default_factory=dict)
@@ -148,6 +153,7 @@ def _spectrum(raw: dict, request: _Request) -> Spectrum:
         kernel_flat_vertices=raw["kernel_flat_vertices"],
         kernel_constants=raw["kernel_constants"],
         kernel_linear_functions=raw["kernel_linear_functions"],
+        kernel_ruling_functions=raw["kernel_ruling_functions"],
         mass=raw["mass"],
         scale=raw["scale"],
         statistics=raw["statistics"],
@@ -191,8 +197,9 @@ def spectrum(
             the bottom of its spectrum: where it is strongly indefinite (``tau`` from about 0.7
             on curved meshes) it raises ``SolverError``; ``"relative-dirac"`` and ``"squared"``
             raise ``KernelError`` where the kernel may be larger than what the solver removes
-            (rulings of a crease or tube tied to the rest only at single vertices, or a
-            reference some of whose triangles are segments of three distinct points).
+            (rulings tied together at single vertices by rigid parts of more than 1,024
+            parameters, or a reference some of whose triangles are segments of three distinct
+            points).
         tau: weight of ``D_N`` in the family, in ``[0, 1]`` (0: Laplace, 1: relative Dirac).
         anisotropy: ``α ≥ 0`` of the anisotropic Laplacian: conductivity ``1/(1 + α|κ|)`` along
             each principal curvature direction (0: Laplace).

@@ -27,9 +27,10 @@ class                  builtin base                raised when
                                                    than asked for outside its exact kernel (or
                                                    none at all: a planar mesh for relative Dirac),
                                                    or has a kernel it does not remove (rulings
-                                                   tied to the rest at single vertices, or a
-                                                   second surface with triangles that are
-                                                   segments of three distinct points)
+                                                   tied at single vertices with more than 1,024
+                                                   parameters of rigid parts, or a second
+                                                   surface with triangles that are segments of
+                                                   three distinct points)
 ``SingularError``      ``ArithmeticError``         a matrix is numerically singular (``vertex``
                                                    where the factorisation failed, if known)
 ``SolverError``        ``RuntimeError``            the eigensolver failed

@@ -11,7 +11,7 @@ use qscalar::{Quat, Scalar};
 use qsparse::{DenseMatrix, DisjointSets, SparseVector};
 
 use super::SecondSurface;
-use super::kernel::length_scale;
+use super::kernel::{PinnedVector, length_scale};
 use crate::TriMesh;
 use crate::geometry::{cross, dot, norm, normalize, sub};
 
@@ -30,6 +30,10 @@ pub(super) struct FirstOrderKernel<T> {
     /// over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
     /// exactly the constant and this function.
     pub linear: Vec<SparseVector<T>>,
+    /// By piece root: a mass-orthonormal basis of the kernel on each piece whose rulings
+    /// leave more than the constant and `u f2` ([`RuledPieces::basis`]), pinned; it replaces
+    /// them.
+    pub ruled: HashMap<usize, Vec<PinnedVector<T>>>,
     /// The first piece whose kernel may be larger than what is removed: the spectrum stops
     /// there with an error.
     pub unremoved: Option<Unremoved>,
@@ -45,14 +49,10 @@ pub(super) enum Unremoved {
         vertex: usize,
         direction: Option<[f64; 3]>,
     },
-    /// A piece with [`SecondTriangle::Pair`]s whose kernel ([`larger_kernel_on_rulings`]) is
-    /// larger than its constant and `u f2`: its smallest vertex and the dimension beyond those
-    /// (`None`: not computed, for more parameters than [`PARAMETERS_COMPUTED`] or a failed
-    /// eigensolve).
-    Rulings {
-        vertex: usize,
-        excess: Option<usize>,
-    },
+    /// A piece with [`SecondTriangle::Pair`]s whose kernel ([`add_kernel_on_rulings`]) may be
+    /// larger than its constant and `u f2` and is not computed (more parameters than
+    /// [`PARAMETERS_COMPUTED`], or a failed eigensolve): its smallest vertex.
+    Rulings { vertex: usize },
 }
 
 /// Unit face normals within this of perpendicular to a direction are parallel to it, triangles
@@ -276,6 +276,7 @@ pub(super) fn first_order_kernel(
         surface,
         pieces,
         linear: Vec::new(),
+        ruled: HashMap::new(),
         unremoved: None,
     };
     let mut linear_pieces = HashSet::new();
@@ -305,12 +306,13 @@ pub(super) fn first_order_kernel(
         });
     }
     if kernel.unremoved.is_none() {
-        kernel.unremoved = larger_kernel_on_rulings(
+        add_kernel_on_rulings(
+            &mut kernel,
             mesh,
             &triangles,
             skipped,
             potential,
-            &mut kernel.pieces,
+            masses,
             &linear_pieces,
         );
     }
@@ -318,12 +320,14 @@ pub(super) fn first_order_kernel(
 }
 
 /// Pieces whose kernel propagation does not bound, and whose rigid parts have more
-/// parameters than this, are not counted (a dense Hermitian eigensolve of this order takes
-/// about 0.1 s).
-pub(super) const PARAMETERS_COMPUTED: usize = 256;
+/// parameters than this, are not computed: the null space is a dense Hermitian eigensolve of
+/// their order (an open tube of 128 sides, 2 edges each, takes 1.7 s in all).
+pub(super) const PARAMETERS_COMPUTED: usize = 1024;
 
-/// The first piece with [`SecondTriangle::Pair`]s (by smallest vertex) whose kernel is larger
-/// than its constant and, on the `linear_pieces` (roots), `u f2`; `None` if there is none.
+/// Adds to `kernel` the kernel on the pieces with [`SecondTriangle::Pair`]s where it is larger
+/// than their constant and, on the `linear_pieces` (roots), `u f2`: a pinned basis by piece
+/// root ([`RuledPieces::basis`], with `masses`), or the first piece (by smallest vertex) where
+/// it is not computed.
 ///
 /// The pieces join the three corners of proper triangles, which presumes that a kernel vector
 /// is one constant (and one multiple of `u f2`) on all of them. That holds where proper
@@ -332,17 +336,22 @@ pub(super) const PARAMETERS_COMPUTED: usize = 256;
 /// together by *rulings* (the classes of coinciding corners, one value each) that meet proper
 /// triangles at single vertices, as where the normals of a crease turn at the boundary, and
 /// then each ruling may carry its own value. So the kernel of each piece with pairs is counted
-/// ([`RuledPieces`]). Pieces where the well's `potential` is not zero are skipped: their rows
-/// are not those of `D_{f,f2}`, and their constants are no kernel vectors anyway.
-fn larger_kernel_on_rulings(
+/// ([`RuledPieces`]), and computed where the count exceeds what the constant and `u f2` hold.
+/// Pieces where the well's `potential` is not zero are skipped: their rows are not those of
+/// `D_{f,f2}`, and their constants are no kernel vectors anyway.
+fn add_kernel_on_rulings(
+    kernel: &mut FirstOrderKernel<Quat<f64>>,
     mesh: &TriMesh,
     triangles: &SecondTriangles,
     skipped: &[bool],
     potential: Option<&[f64]>,
-    pieces: &mut DisjointSets,
+    masses: &[f64],
     linear_pieces: &HashSet<usize>,
-) -> Option<Unremoved> {
-    let ruled = RuledPieces::new(mesh, triangles, skipped, potential, pieces)?;
+) {
+    let pieces = &mut kernel.pieces;
+    let Some(mut ruled) = RuledPieces::new(mesh, triangles, skipped, potential, pieces) else {
+        return;
+    };
     let bound = ruled.propagated_bound();
     let mut roots: Vec<usize> = (0..mesh.vertex_count())
         .filter(|&r| ruled.ruled[r] && ruled.pieces.find(r) == r)
@@ -353,21 +362,15 @@ fn larger_kernel_on_rulings(
         if bound[root] <= known {
             continue;
         }
-        let vertex = ruled.smallest[root];
-        let Some(dimension) = ruled.dimension(root) else {
-            return Some(Unremoved::Rulings {
-                vertex,
-                excess: None,
-            });
+        let Some(basis) = ruled.basis(root, masses) else {
+            let vertex = ruled.smallest[root];
+            kernel.unremoved = Some(Unremoved::Rulings { vertex });
+            return;
         };
-        if dimension > known {
-            return Some(Unremoved::Rulings {
-                vertex,
-                excess: Some(dimension - known),
-            });
+        if basis.len() > known {
+            kernel.ruled.insert(root, basis);
         }
     }
-    None
 }
 
 /// Where a ruling meets a rigid part: at `vertex` (one per ruling and part).
@@ -389,6 +392,9 @@ struct RigidPart {
     direction: Option<[f64; 3]>,
     /// The longest edge of `f2` among its faces.
     size: f64,
+    /// A vertex of it, from which `f2` is measured: the part's value at `v` is `α + k_v β`,
+    /// `k_v = u (f2_v − f2_anchor)/size`, of order 1.
+    anchor: usize,
 }
 
 /// The pieces of the kernel with [`SecondTriangle::Pair`]s, as rulings and rigid parts.
@@ -414,6 +420,8 @@ struct RuledPieces<'a> {
     parts: HashMap<usize, RigidPart>,
     /// Sorted by ruling, then part.
     contacts: Vec<Contact>,
+    /// The rulings: vertices joined by coinciding corners.
+    rulings: DisjointSets,
     positions: &'a [[f64; 3]],
 }
 
@@ -509,6 +517,7 @@ impl<'a> RuledPieces<'a> {
                     offset,
                     direction: direction[&part],
                     size: shared[&part].1,
+                    anchor: face[0],
                 }
             });
             contacts.extend(face.map(|vertex| Contact {
@@ -539,6 +548,7 @@ impl<'a> RuledPieces<'a> {
             parameters,
             parts: rigid_parts,
             contacts,
+            rulings,
             positions: f2,
         })
     }
@@ -601,42 +611,41 @@ impl<'a> RuledPieces<'a> {
         bound
     }
 
-    /// The dimension of the kernel on the piece of `root`, counted densely: the eigenvalues of
-    /// `CᴴC` (each row of the agreements `C` scaled to largest entry 1) at most `10⁻⁹` of the
-    /// largest. A part's value at `v` is `α + k_v β`, `k_v = u (f2_v − f2_a)/size` from a corner
-    /// `a` of the part, of order 1. `None` above [`PARAMETERS_COMPUTED`] or if the eigensolve
-    /// fails.
-    fn dimension(&self, root: usize) -> Option<usize> {
+    /// The value `α + k_v β` of a part at its vertex `v`, as coefficients of its parameters.
+    fn value(&self, part: usize, v: usize) -> Vec<(usize, Quat<f64>)> {
+        let part = &self.parts[&part];
+        let mut row = vec![(part.offset, Quat::from_real(1.0))];
+        if let Some(u) = part.direction {
+            let relative = sub(self.positions[v], self.positions[part.anchor])
+                .map(|x| x / part.size.max(f64::MIN_POSITIVE));
+            row.push((
+                part.offset + 1,
+                Quat::from_vector(u) * Quat::from_vector(relative),
+            ));
+        }
+        row
+    }
+
+    /// The parameters of the parts of the piece of `root` on which the agreements vanish: the
+    /// eigenvectors of `CᴴC` (each row of the agreements `C` scaled to largest entry 1) whose
+    /// eigenvalues are at most `10⁻⁹` of the largest, orthonormal. `None` above
+    /// [`PARAMETERS_COMPUTED`] or if the eigensolve fails.
+    fn null_space(&self, root: usize) -> Option<Vec<Vec<Quat<f64>>>> {
         let count = self.parameters[root];
         if count > PARAMETERS_COMPUTED {
             return None;
         }
-        if count == 0 {
-            return Some(self.free[root]);
-        }
-        let mut anchor: HashMap<usize, usize> = HashMap::new();
         let mut normal = DenseMatrix::<Quat<f64>>::zeros(count, count);
         for group in self.contacts.chunk_by(|a, b| a.ruling == b.ruling) {
             let first = group[0];
             if self.parts[&first.part].piece != root {
                 continue;
             }
-            let mut value = |c: &Contact| {
-                let part = &self.parts[&c.part];
-                let a = *anchor.entry(c.part).or_insert(c.vertex);
-                let mut row = vec![(part.offset, Quat::from_real(1.0))];
-                if let Some(u) = part.direction {
-                    let relative = sub(self.positions[c.vertex], self.positions[a])
-                        .map(|x| x / part.size.max(f64::MIN_POSITIVE));
-                    let k = Quat::from_vector(u) * Quat::from_vector(relative);
-                    row.push((part.offset + 1, k));
-                }
-                row
-            };
-            let reference = value(&first);
+            let reference = self.value(first.part, first.vertex);
             for other in &group[1..] {
                 let mut row = reference.clone();
-                row.extend(value(other).into_iter().map(|(j, c)| (j, -c)));
+                let theirs = self.value(other.part, other.vertex);
+                row.extend(theirs.into_iter().map(|(j, c)| (j, -c)));
                 let largest = row.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
                 for &(j, a) in &row {
                     for &(k, b) in &row {
@@ -645,11 +654,124 @@ impl<'a> RuledPieces<'a> {
                 }
             }
         }
+        if count == 0 {
+            return Some(Vec::new());
+        }
         let eigen = qeig::dense::hermitian_eigen(&normal).ok()?;
         let top = eigen.values.iter().fold(0.0f64, |m, v| m.max(*v));
-        let rank = eigen.values.iter().filter(|&&v| v > 1e-9 * top).count();
-        Some(self.free[root] + count - rank)
+        let null = (0..count).filter(|&j| eigen.values[j] <= 1e-9 * top);
+        Some(null.map(|j| eigen.vectors.col(j).to_vec()).collect())
     }
+
+    /// A basis of the kernel on the piece of `root`, mass-orthonormal (`masses` of the
+    /// vertices), each vector with the vertex that pins it; `None` where
+    /// [`Self::null_space`] is. Every vertex takes the value of its ruling: that of the part
+    /// it meets first (the agreements make the others equal), or, on a free ruling, one
+    /// vector of its own. The pins come from elimination with the largest entry as pivot,
+    /// so that no combination of the vectors vanishes at all of them.
+    fn basis(&mut self, root: usize, masses: &[f64]) -> Option<Vec<PinnedVector<Quat<f64>>>> {
+        let null = self.null_space(root)?;
+        let vertices: Vec<usize> = (0..masses.len())
+            .filter(|&v| self.ruled[root] && self.pieces.find(v) == root)
+            .collect();
+        let mut contact_of: HashMap<usize, Contact> = HashMap::new();
+        for c in &self.contacts {
+            contact_of.entry(c.ruling).or_insert(*c);
+        }
+        let ruling_of: Vec<usize> = vertices.iter().map(|&v| self.rulings.find(v)).collect();
+        let mut vectors: Vec<Vec<Quat<f64>>> = null
+            .iter()
+            .map(|z| {
+                (ruling_of.iter())
+                    .map(|r| match contact_of.get(r) {
+                        Some(c) => (self.value(c.part, c.vertex).into_iter())
+                            .map(|(j, k)| k * z[j])
+                            .sum(),
+                        None => Quat::from_real(0.0),
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut free: Vec<usize> = (ruling_of.iter())
+            .copied()
+            .filter(|r| !contact_of.contains_key(r))
+            .collect();
+        free.sort_unstable();
+        free.dedup();
+        for ruling in free {
+            vectors.push(
+                (ruling_of.iter())
+                    .map(|&r| Quat::from_real(if r == ruling { 1.0 } else { 0.0 }))
+                    .collect(),
+            );
+        }
+        let mass: Vec<f64> = vertices.iter().map(|&v| masses[v]).collect();
+        let orthonormal = mass_orthonormal(vectors, &mass);
+        let pins = pivots(&orthonormal);
+        Some(
+            (orthonormal.into_iter().zip(pins))
+                .map(|(values, pin)| PinnedVector {
+                    vector: SparseVector {
+                        rows: vertices.clone(),
+                        values,
+                    },
+                    pin: vertices[pin],
+                })
+                .collect(),
+        )
+    }
+}
+
+/// `vectors` made orthonormal in `⟨x, y⟩ = Σ_p m_p x_p* y_p` by Gram–Schmidt with coefficients
+/// on the right (twice, for orthogonality to rounding), dropping those in the span of the
+/// earlier ones (norm below `10⁻⁸` of what it was).
+fn mass_orthonormal(vectors: Vec<Vec<Quat<f64>>>, mass: &[f64]) -> Vec<Vec<Quat<f64>>> {
+    let inner = |x: &[Quat<f64>], y: &[Quat<f64>]| -> Quat<f64> {
+        (x.iter().zip(y).zip(mass))
+            .map(|((a, b), m)| (a.conj() * *b).scale(*m))
+            .sum()
+    };
+    let mut done: Vec<Vec<Quat<f64>>> = Vec::new();
+    for mut x in vectors {
+        let before = inner(&x, &x).re().sqrt();
+        for _ in 0..2 {
+            for q in &done {
+                let alpha = inner(q, &x);
+                x.iter_mut().zip(q).for_each(|(a, b)| *a -= *b * alpha);
+            }
+        }
+        let norm = inner(&x, &x).re().sqrt();
+        if norm > 1e-8 * before {
+            x.iter_mut().for_each(|a| *a = a.scale(1.0 / norm));
+            done.push(x);
+        }
+    }
+    done
+}
+
+/// One index per vector at which no combination of the vectors vanishes entirely: Gaussian
+/// elimination on working copies, each pivot the largest remaining entry of its vector.
+fn pivots(vectors: &[Vec<Quat<f64>>]) -> Vec<usize> {
+    let mut work: Vec<Vec<Quat<f64>>> = vectors.to_vec();
+    let mut pins = Vec::with_capacity(vectors.len());
+    for i in 0..work.len() {
+        let pin = (0..work[i].len())
+            .max_by(|&a, &b| work[i][a].abs().total_cmp(&work[i][b].abs()))
+            .unwrap_or(0);
+        let inverse = work[i][pin].inv();
+        let (earlier, later) = work.split_at_mut(i + 1);
+        let row = &earlier[i];
+        for other in later {
+            // `other ← other − row (row_pin⁻¹ other_pin)`: zero at the pin.
+            let factor = inverse * other[pin];
+            other
+                .iter_mut()
+                .zip(row)
+                .for_each(|(a, b)| *a -= *b * factor);
+        }
+        pins.push(pin);
+    }
+    pins
 }
 
 /// The one direction a set of unit normals may all be perpendicular to: the cross product of

@@ -49,6 +49,9 @@ pub(super) enum ModeKind {
     Constant,
     /// A linear function `u (f2 − f̄2)` of the second surface, mass-orthogonal to `𝟙_S`.
     Linear,
+    /// A basis vector of the kernel on a piece whose rulings carry more than the constant and
+    /// `u f2` (the basis spans those too), mass-orthonormal to the others of its piece.
+    Ruling,
 }
 
 /// A kernel vector of `P` supported on one connected piece of the non-flat vertices, for a
@@ -67,6 +70,15 @@ pub(super) struct KernelMode<T> {
     /// The vertex the pinned form sets to zero to remove it: the piece's first vertex for the
     /// constant; for a linear mode the vertex where it differs most from its value there (two
     /// pins where `k` differs exclude every combination `𝟙_S a + k b`).
+    pub pin: usize,
+}
+
+/// A kernel vector known from the structure of the operator, with the vertex that pins it.
+#[derive(Debug, Clone)]
+pub(super) struct PinnedVector<T> {
+    /// Its entries (rows ascending).
+    pub vector: SparseVector<T>,
+    /// The vertex the pinned form sets to zero to remove it.
     pub pin: usize,
 }
 
@@ -100,7 +112,7 @@ pub(super) struct ExactKernel<T> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct KernelSummary {
     /// Quaternionic dimension of the exactly known kernel: `flat_vertices + constants +
-    /// linear_functions`.
+    /// linear_functions + ruling_functions`.
     pub dimension: usize,
     /// Vertices all of whose faces are flat (`D δ_p = 0`): one kernel dimension each.
     pub flat_vertices: usize,
@@ -110,6 +122,10 @@ pub struct KernelSummary {
     /// second surface `f2` of `D_{f,f2}` parallel to one direction `u`: a planar piece or an
     /// open prism for `D_f`, vertex normals in one plane for `D_N`).
     pub linear_functions: usize,
+    /// Kernel vectors of the pieces whose rulings (vertices joined by coinciding corners of
+    /// the triangles of `f2`) carry more than a constant and `u f2`: a basis of the kernel on
+    /// each, in place of its constant and linear function.
+    pub ruling_functions: usize,
 }
 
 impl<T: Scalar<Real = f64>> ExactKernel<T> {
@@ -125,6 +141,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
         stiffness: &SparseMatrix<T>,
         coupling: &SparseMatrix<T>,
         linear: Vec<SparseVector<T>>,
+        mut ruled: HashMap<usize, Vec<PinnedVector<T>>>,
     ) -> Self {
         let n = mesh.vertex_count();
         let mut touches_curved = vec![false; n];
@@ -149,6 +166,13 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             let Some(&first) = vertices.first() else {
                 continue;
             };
+            if let Some(basis) = ruled.remove(&root) {
+                modes.extend(basis.into_iter().filter_map(|b| {
+                    let kind = ModeKind::Ruling;
+                    kernel_mode(&mut accumulator, kind, b.vector, b.pin, stiffness, coupling)
+                }));
+                continue;
+            }
             let vector = SparseVector {
                 values: vec![T::one(); vertices.len()],
                 rows: vertices,
@@ -197,11 +221,13 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
     pub fn summary(&self) -> KernelSummary {
         let count = |kind| self.modes.iter().filter(|m| m.kind == kind).count();
         let (constants, linear_functions) = (count(ModeKind::Constant), count(ModeKind::Linear));
+        let ruling_functions = count(ModeKind::Ruling);
         KernelSummary {
-            dimension: self.flat_vertices.len() + constants + linear_functions,
+            dimension: self.flat_vertices.len() + constants + linear_functions + ruling_functions,
             flat_vertices: self.flat_vertices.len(),
             constants,
             linear_functions,
+            ruling_functions,
         }
     }
 

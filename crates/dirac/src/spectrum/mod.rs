@@ -50,12 +50,13 @@
 //! corners of a triangle of `f2` coincide (normals along a crease from boundary to boundary,
 //! or on the rulings of a cylinder) its row asks only equal values there, so the pieces are
 //! finer than the connected ones, each with its constant; where such rulings tie proper
-//! triangles together at single vertices the kernel can be larger, which is counted and is
-//! the error [`SpectrumError::RuledKernel`]. Where some triangles are segments of three
-//! distinct points the kernel can be larger too: [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
+//! triangles together at single vertices the kernel can be larger, and it is computed on the
+//! rulings and removed (functions of rulings; [`SpectrumError::RuledKernel`] beyond the size
+//! computed). Where some triangles are segments of three distinct points the kernel can be
+//! larger too: [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
 //! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
-//! with a mass-orthonormal basis (constants first, each followed by its piece's linear function
-//! if it has one, then `δ_p / √Ā_p`).
+//! with a mass-orthonormal basis (by piece: its constant and its linear function if it has
+//! one, or its functions of rulings; then `δ_p / √Ā_p`).
 //!
 //! **Results.** The `k` eigenvalues of smallest `|λ|`, signed, sorted by `|λ|`, then by `λ`
 //! among magnitudes equal to within `max(100 tol, 10⁻⁸)` relative (so `−a` before `a`,
@@ -77,6 +78,7 @@ mod solve;
 
 use std::any::Any;
 use std::borrow::Cow;
+use std::collections::HashMap;
 use std::fmt;
 use std::str::FromStr;
 
@@ -813,30 +815,18 @@ pub enum SpectrumError {
     },
     /// A Dirac pencil on `D_{f,f2}` with a piece where corners of the triangles of `f2`
     /// coincide along rulings (a crease between flat panels, a cylinder of straight rulings)
-    /// and whose kernel is larger than its constant and `u f2`: the rulings meet the proper
-    /// triangles of `f2` at single vertices, so each may carry its own value, a kernel the
-    /// solver does not remove.
+    /// whose kernel may be larger than its constant and `u f2` but is not computed: its rigid
+    /// parts have more parameters than a dense count takes.
     #[error(
         "the {operator} operator is not solved here: on the piece of vertex {vertex}, corners of \
          the triangles of {} coincide along rulings (a crease between flat panels, or a \
-         cylinder of straight rulings), and {}; use --operator family:T (0 < T < 1), whose \
-         blend with the Laplacian has only the constants in its kernel",
+         cylinder of straight rulings) tied together at single vertices, where the kernel of \
+         {} may be larger than the constant and the linear function, and is computed for at \
+         most {} parameters of rigid parts; use --operator family:T (0 < T < 1), whose blend \
+         with the Laplacian has only the constants in its kernel",
         surface.symbol(),
-        match excess {
-            Some(d) => format!(
-                "{} annihilates {d} more function{} than the constant and the linear function \
-                 the solver removes",
-                surface.operator(),
-                if *d == 1 { "" } else { "s" }
-            ),
-            None => format!(
-                "the kernel of {} there, which may be larger than the constant and the linear \
-                 function the solver removes, was not computed (it is for at most {} \
-                 parameters of rigid parts)",
-                surface.operator(),
-                first_order::PARAMETERS_COMPUTED
-            ),
-        }
+        surface.operator(),
+        first_order::PARAMETERS_COMPUTED
     )]
     RuledKernel {
         /// The operator asked for.
@@ -845,8 +835,6 @@ pub enum SpectrumError {
         surface: SecondSurface,
         /// The smallest vertex of the piece.
         vertex: usize,
-        /// The dimension of its kernel beyond what is removed (`None`: not computed).
-        excess: Option<usize>,
     },
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(
@@ -1167,17 +1155,16 @@ fn solve_pencil<T: Scalar<Real = f64>>(
                 vertex,
                 direction,
             },
-            Unremoved::Rulings { vertex, excess } => SpectrumError::RuledKernel {
+            Unremoved::Rulings { vertex } => SpectrumError::RuledKernel {
                 operator,
                 surface,
                 vertex,
-                excess,
             },
         });
     }
-    let (pieces, linear) = match first_order {
-        Some(first_order) => (first_order.pieces, first_order.linear),
-        None => (kernel::pieces(mesh, &spec.flat), Vec::new()),
+    let (pieces, linear, ruled) = match first_order {
+        Some(k) => (k.pieces, k.linear, k.ruled),
+        None => (kernel::pieces(mesh, &spec.flat), Vec::new(), HashMap::new()),
     };
     let kernel = ExactKernel::find(
         mesh,
@@ -1186,6 +1173,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
         &spec.solved().stiffness,
         &spec.solved().coupling,
         linear,
+        ruled,
     );
     let listed = if options.include_kernel {
         kernel.summary().dimension.min(options.k)
