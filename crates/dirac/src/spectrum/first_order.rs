@@ -1,6 +1,7 @@
 //! What the structure of a first-order operator `D_{f,f2}` tells of its kernel (docs/MATH.md,
 //! "The exact kernel"): the pieces a kernel vector is constant on, the linear functions `u f2`
-//! of the pieces parallel to one direction, and the pieces where more may be in the kernel.
+//! of the pieces parallel to one direction, the kernel on pieces held together by rulings, and
+//! the pieces where more may be in the kernel.
 //! Up to the factor `−1/(2A_t)` the row of face `t` is `Σ_p (f2_r − f2_q) ψ_p` over its corners
 //! `p`, `q → r` the edge opposite `p`: what it asks of a kernel vector depends only on the
 //! triangle of `f2` ([`SecondTriangle`]).
@@ -16,9 +17,10 @@ use crate::TriMesh;
 use crate::geometry::{cross, dot, norm, normalize, sub};
 
 /// What the structure of a first-order operator `D_{f,f2}` tells of its kernel
-/// (docs/MATH.md, "The exact kernel"): the pieces a kernel vector is constant on, and the
-/// linear functions `u f2` it annihilates besides the constants, on the pieces where every
-/// triangle of `f2` is parallel to one direction `u` ([`parallel_faces`]).
+/// (docs/MATH.md, "The exact kernel"): the pieces a kernel vector is constant on, the linear
+/// functions `u f2` it annihilates besides the constants on the pieces where every triangle of
+/// `f2` is parallel to one direction `u` ([`parallel_faces`]), a basis of the kernel where
+/// rulings leave more, and where it may be larger than all that.
 #[derive(Debug, Clone)]
 pub(super) struct FirstOrderKernel<T> {
     /// Which surface `f2` is.
@@ -672,7 +674,7 @@ impl<'a> RuledPieces<'a> {
     fn basis(&mut self, root: usize, masses: &[f64]) -> Option<Vec<PinnedVector<Quat<f64>>>> {
         let null = self.null_space(root)?;
         let vertices: Vec<usize> = (0..masses.len())
-            .filter(|&v| self.ruled[root] && self.pieces.find(v) == root)
+            .filter(|&v| self.pieces.find(v) == root)
             .collect();
         let mut contact_of: HashMap<usize, Contact> = HashMap::new();
         for c in &self.contacts {
