@@ -477,13 +477,17 @@ impl<'a> RuledPieces<'a> {
             }
         }
         drop(edges);
-        let mut shared: HashMap<usize, (SharedDirection, f64)> = HashMap::new();
+        // By part: the direction its normals may share, and its longest edge of `f2`.
+        let mut shared: HashMap<usize, SharedDirection> = HashMap::new();
+        let mut longest: HashMap<usize, f64> = HashMap::new();
         for (t, face, triangle) in faces().filter(|(t, ..)| rigid[*t]) {
-            let (direction, size) = shared.entry(parts.find(t)).or_default();
+            let part = parts.find(t);
+            let direction = shared.entry(part).or_default();
             if let SecondTriangle::Triangle(normal) = triangle {
                 direction.add(normal);
             }
             let [a, b, c] = face.map(|p| f2[p]);
+            let size = longest.entry(part).or_default();
             *size = size
                 .max(norm(sub(b, a)))
                 .max(norm(sub(c, b)))
@@ -491,7 +495,7 @@ impl<'a> RuledPieces<'a> {
         }
         // `u` per part where it has a `β`: a part of segments only takes any.
         let mut direction: HashMap<usize, Option<[f64; 3]>> = (shared.iter())
-            .map(|(&part, (d, _))| {
+            .map(|(&part, d)| {
                 (
                     part,
                     d.first.map_or(Some([1.0, 0.0, 0.0]), |_| d.candidate()),
@@ -518,7 +522,7 @@ impl<'a> RuledPieces<'a> {
                     piece,
                     offset,
                     direction: direction[&part],
-                    size: shared[&part].1,
+                    size: longest[&part],
                     anchor: face[0],
                 }
             });
