@@ -35,6 +35,17 @@ def by_magnitude(values: np.ndarray) -> np.ndarray:
     return values[np.lexsort((values, np.round(np.abs(values), 8)))]
 
 
+def ring_faces(rings: int, around: int) -> np.ndarray:
+    """Two triangles per quad between consecutive rings of ``around`` vertices each, closed
+    around, counter-clockwise seen from outside for rings ordered by increasing angle."""
+    F = []
+    for j in range(rings - 1):
+        for i in range(around):
+            a, b = j * around + i, j * around + (i + 1) % around
+            F += [[a, b, b + around], [a, b + around, a + around]]
+    return np.array(F)
+
+
 def tube(segments: int, rings: int, flare: float) -> tuple[np.ndarray, np.ndarray]:
     """An open tube around the z axis of radius ``1 + flare z²``: a prism for ``flare = 0``."""
     angle = 2 * np.pi * np.arange(segments) / segments
@@ -45,12 +56,7 @@ def tube(segments: int, rings: int, flare: float) -> tuple[np.ndarray, np.ndarra
             for a in angle
         ]
     )
-    F = []
-    for j in range(rings - 1):
-        for i in range(segments):
-            a, b = j * segments + i, j * segments + (i + 1) % segments
-            F += [[a, b, b + segments], [a, b + segments, a + segments]]
-    return V, np.array(F)
+    return V, ring_faces(rings, segments)
 
 
 def warped_grid() -> tuple[np.ndarray, np.ndarray]:
@@ -95,12 +101,7 @@ def panel_tube(sides: int, cuts: int, rings: int) -> tuple[np.ndarray, np.ndarra
         for k in range(around)
     ]
     V = np.array([[x, y, z] for z in np.linspace(0, 1, rings) for x, y in section])
-    F = []
-    for j in range(rings - 1):
-        for k in range(around):
-            a, b = j * around + k, j * around + (k + 1) % around
-            F += [[a, b, b + around], [a, b + around, a + around]]
-    return V, np.array(F)
+    return V, ring_faces(rings, around)
 
 
 def test_the_relative_dirac_spectrum_of_a_tube_of_flat_panels_matches_scipy():

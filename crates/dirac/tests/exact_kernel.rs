@@ -710,19 +710,30 @@ fn the_linear_function_is_listed_with_the_kernel() {
     let got = spectrum(&plane, &options).unwrap();
     assert_eq!(&got.eigenvalues[..2], &[0.0, 0.0]);
     let pencil = DiracPencil::new(&plane, &extrinsic_dirac(&plane).unwrap()).unwrap();
-    let scale = pencil
-        .stiffness
-        .values()
-        .iter()
-        .map(|q| q.abs())
-        .fold(0.0, f64::max);
-    for (i, x) in got.eigenvectors[..2].iter().enumerate() {
+    assert_kernel_basis(
+        &pencil.stiffness,
+        &got.eigenvectors[..2],
+        &got.masses,
+        1e-13,
+    );
+}
+
+/// `vectors` are mass-orthonormal (to `10⁻¹²`) and annihilated by `A`: `|A x| < tolerance ·
+/// max|A_ij|`.
+fn assert_kernel_basis(
+    a: &SparseMatrix<Quat<f64>>,
+    vectors: &[Vec<Quat<f64>>],
+    masses: &[f64],
+    tolerance: f64,
+) {
+    let scale = a.values().iter().map(|q| q.abs()).fold(0.0, f64::max);
+    for (i, x) in vectors.iter().enumerate() {
         let mut ax = vec![Quat::default(); x.len()];
-        pencil.stiffness.mul_vec(x, &mut ax).unwrap();
+        a.mul_vec(x, &mut ax).unwrap();
         let largest = ax.iter().map(|q| q.abs()).fold(0.0, f64::max);
-        assert!(largest < 1e-13 * scale, "|A x_{i}| = {largest:e}");
-        for (j, y) in got.eigenvectors[..2].iter().enumerate() {
-            let inner = mass_inner(&got.masses, x, y);
+        assert!(largest < tolerance * scale, "|A x_{i}| = {largest:e}");
+        for (j, y) in vectors.iter().enumerate() {
+            let inner = mass_inner(masses, x, y);
             let want = if i == j { 1.0 } else { 0.0 };
             assert!(
                 (inner - Quat::from_real(want)).abs() < 1e-12,
@@ -871,23 +882,12 @@ fn rulings_held_together_at_single_vertices_carry_a_basis_of_the_kernel() {
     options.include_kernel = true;
     options.k = 6;
     let listed = spectrum(&mesh, &options).unwrap();
-    let scale = (pencil.stiffness.values().iter())
-        .map(|q| q.abs())
-        .fold(0.0, f64::max);
-    for (i, x) in listed.eigenvectors.iter().enumerate() {
-        let mut ax = vec![Quat::default(); x.len()];
-        pencil.stiffness.mul_vec(x, &mut ax).unwrap();
-        let largest = ax.iter().map(|q| q.abs()).fold(0.0, f64::max);
-        assert!(largest < 1e-12 * scale, "|A x_{i}| = {largest:e}");
-        for (j, y) in listed.eigenvectors.iter().enumerate() {
-            let inner = mass_inner(&listed.masses, x, y);
-            let want = if i == j { 1.0 } else { 0.0 };
-            assert!(
-                (inner - Quat::from_real(want)).abs() < 1e-12,
-                "<x_{i}, x_{j}> = {inner:?}"
-            );
-        }
-    }
+    assert_kernel_basis(
+        &pencil.stiffness,
+        &listed.eigenvectors,
+        &listed.masses,
+        1e-12,
+    );
 }
 
 /// With 400 sides the rigid parts of such a tube have more parameters than the kernel is

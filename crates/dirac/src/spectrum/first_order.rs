@@ -9,12 +9,14 @@
 use std::collections::{HashMap, HashSet};
 
 use qscalar::{Quat, Scalar};
+use qsparse::vector::axpy;
 use qsparse::{DenseMatrix, DisjointSets, SparseVector};
 
 use super::SecondSurface;
 use super::kernel::{PinnedVector, length_scale};
 use crate::TriMesh;
 use crate::geometry::{cross, dot, norm, normalize, sub};
+use crate::phase::{mass_inner, mass_norm};
 
 /// What the structure of a first-order operator `D_{f,f2}` tells of its kernel
 /// (docs/MATH.md, "The exact kernel"): the pieces a kernel vector is constant on, the linear
@@ -104,16 +106,23 @@ impl<'a> SecondTriangles<'a> {
                 (low[c], high[c]) = (low[c].min(p[c]), high[c].max(p[c]));
             }
         }
-        let size = if positions.is_empty() {
-            0.0
-        } else {
-            norm(sub(high, low))
-        };
         Self {
             positions,
-            size,
+            size: norm(sub(high, low)),
             flat_edges,
         }
+    }
+
+    /// The faces of `mesh` that are not `skipped`, each with its index and its triangle.
+    fn classified<'b>(
+        &'b self,
+        mesh: &'b TriMesh,
+        skipped: &'b [bool],
+    ) -> impl Iterator<Item = (usize, [usize; 3], SecondTriangle)> + 'b {
+        (mesh.faces().iter().enumerate())
+            .zip(skipped)
+            .filter(|(_, s)| !**s)
+            .map(|((t, &face), _)| (t, face, self.classify(face)))
     }
 
     /// Whether corners `a` and `b`, at distance `distance` in `f2`, coincide within `bound`.
@@ -157,8 +166,8 @@ impl<'a> SecondTriangles<'a> {
 /// rulings, each with its own constant.
 fn kernel_pieces(mesh: &TriMesh, triangles: &SecondTriangles, skipped: &[bool]) -> DisjointSets {
     let mut pieces = DisjointSets::new(mesh.vertex_count());
-    for (&[a, b, c], _) in mesh.faces().iter().zip(skipped).filter(|(_, s)| !**s) {
-        match triangles.classify([a, b, c]) {
+    for (_, [a, b, c], triangle) in triangles.classified(mesh, skipped) {
+        match triangle {
             SecondTriangle::Point => {}
             SecondTriangle::Pair(p, q) => pieces.union(p, q),
             SecondTriangle::Segment | SecondTriangle::Triangle(_) => {
@@ -203,18 +212,12 @@ fn parallel_faces(
     pieces: &mut DisjointSets,
 ) -> Vec<ParallelPiece> {
     let n = mesh.vertex_count();
-    let faces = || {
-        (mesh.faces().iter())
-            .zip(skipped)
-            .filter(|(_, s)| !**s)
-            .map(|(&f, _)| (f, triangles.classify(f)))
-    };
     // Per piece: whether it has a proper triangle or a segment, the direction its normals may
     // share, and whether it has a segment.
     let mut present = vec![false; n];
     let mut shared = vec![SharedDirection::default(); n];
     let mut segments = vec![false; n];
-    for (face, triangle) in faces() {
+    for (_, face, triangle) in triangles.classified(mesh, skipped) {
         let root = pieces.find(face[0]);
         match triangle {
             SecondTriangle::Point | SecondTriangle::Pair(..) => continue,
@@ -226,7 +229,7 @@ fn parallel_faces(
     let direction: Vec<Option<[f64; 3]>> = shared.iter().map(SharedDirection::candidate).collect();
     drop(shared);
     let mut parallel = present;
-    for (face, triangle) in faces() {
+    for (_, face, triangle) in triangles.classified(mesh, skipped) {
         let root = pieces.find(face[0]);
         if let (Some(u), SecondTriangle::Triangle(normal)) = (direction[root], triangle) {
             parallel[root] &= dot(u, normal).abs() <= PARALLEL_TOLERANCE;
@@ -438,12 +441,7 @@ impl<'a> RuledPieces<'a> {
     ) -> Option<Self> {
         let (n, m) = (mesh.vertex_count(), mesh.face_count());
         let f2 = triangles.positions;
-        let faces = || {
-            (mesh.faces().iter().enumerate())
-                .zip(skipped)
-                .filter(|(_, s)| !**s)
-                .map(|((t, &f), _)| (t, f, triangles.classify(f)))
-        };
+        let faces = || triangles.classified(mesh, skipped);
         let mut rulings = DisjointSets::new(n);
         let mut ruled = vec![false; n];
         for (_, _, triangle) in faces() {
@@ -732,21 +730,16 @@ impl<'a> RuledPieces<'a> {
 /// on the right (twice, for orthogonality to rounding), dropping those in the span of the
 /// earlier ones (norm below `10⁻⁸` of what it was).
 fn mass_orthonormal(vectors: Vec<Vec<Quat<f64>>>, mass: &[f64]) -> Vec<Vec<Quat<f64>>> {
-    let inner = |x: &[Quat<f64>], y: &[Quat<f64>]| -> Quat<f64> {
-        (x.iter().zip(y).zip(mass))
-            .map(|((a, b), m)| (a.conj() * *b).scale(*m))
-            .sum()
-    };
     let mut done: Vec<Vec<Quat<f64>>> = Vec::new();
     for mut x in vectors {
-        let before = inner(&x, &x).re().sqrt();
+        let before = mass_norm(mass, &x);
         for _ in 0..2 {
             for q in &done {
-                let alpha = inner(q, &x);
-                x.iter_mut().zip(q).for_each(|(a, b)| *a -= *b * alpha);
+                let alpha = mass_inner(mass, q, &x);
+                axpy(&mut x, q, -alpha);
             }
         }
-        let norm = inner(&x, &x).re().sqrt();
+        let norm = mass_norm(mass, &x);
         if norm > 1e-8 * before {
             x.iter_mut().for_each(|a| *a = a.scale(1.0 / norm));
             done.push(x);

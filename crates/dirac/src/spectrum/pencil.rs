@@ -14,7 +14,7 @@ use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
 use crate::curvature::willmore_potential;
 use crate::geometry::{barycentric_masses, cotan_laplacian, vertex_normals};
-use crate::operators::{DiracPencil, OperatorError, extrinsic_dirac, quaternionic, relative_dirac};
+use crate::operators::{DiracPencil, OperatorError, quaternionic, relative_dirac};
 use crate::well::{dirac_with_well, laplacian_with_well};
 
 /// How a pencil `P x = λ Q x` is turned into a Hermitian-definite one for `qeig`.
@@ -260,10 +260,7 @@ impl FirstOrder {
             SecondImmersion::Positions => (mesh.positions(), SecondSurface::Mesh),
             SecondImmersion::Surface(f2) => (f2, SecondSurface::Reference),
         };
-        let d = match second {
-            SecondImmersion::Positions => extrinsic_dirac(mesh)?,
-            _ => relative_dirac(mesh, f2)?,
-        };
+        let d = relative_dirac(mesh, f2)?;
         let d = match potential {
             Some(u) => dirac_with_well(mesh, &d, u)?,
             None => d,
