@@ -333,6 +333,14 @@ fn a_planar_mesh_is_a_vanishing_operator_not_a_crash() {
         "{message}"
     );
     assert!(message.contains("--repair"), "{message}");
+    // The extrinsic operator does not vanish on a soup, but each face's kernel (its constant
+    // and linear functions) leaves nothing else: the same advice.
+    let error = spectrum(&soup, &SpectrumOptions::new(Operator::ExtrinsicDirac, 4)).unwrap_err();
+    assert!(
+        matches!(error, SpectrumError::TooFewNonzero { available: 0, components, .. } if components == faces),
+        "{error}"
+    );
+    assert!(error.to_string().contains("--repair"), "{error}");
     let mut options = SpectrumOptions::new(Operator::RelativeDirac, 4);
     options.include_kernel = true;
     let kernel = spectrum(&plane, &options).unwrap();

@@ -263,17 +263,20 @@ fn parallel_faces(
 
 /// The [`FirstOrderKernel`] of `D_{f,f2}` with `f2 = positions` (one point per vertex), the rows
 /// of the `skipped` faces vanishing, `masses` the vertex masses of the mesh, the well's
-/// `potential`, and for the Gauss map the flat tolerance ([`SecondTriangles`]).
+/// `potential`; the flat tolerance decides where normals coincide when `surface` is the Gauss
+/// map ([`SecondTriangles`]), and nothing for the other surfaces, whose points are compared
+/// exactly.
 pub(super) fn first_order_kernel(
     mesh: &TriMesh,
     masses: &[f64],
     positions: &[[f64; 3]],
     skipped: &[bool],
     potential: Option<&[f64]>,
-    flat_tolerance: Option<f64>,
+    flat_tolerance: f64,
     surface: SecondSurface,
 ) -> FirstOrderKernel<Quat<f64>> {
-    let flat_edges = flat_tolerance.map(|t| (mesh.positions(), t / length_scale(mesh)));
+    let flat_edges = (surface == SecondSurface::GaussMap)
+        .then(|| (mesh.positions(), flat_tolerance / length_scale(mesh)));
     let triangles = SecondTriangles::new(positions, flat_edges);
     let mut pieces = kernel_pieces(mesh, &triangles, skipped);
     let parallel = parallel_faces(mesh, &triangles, skipped, &mut pieces);

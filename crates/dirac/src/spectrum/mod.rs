@@ -764,14 +764,7 @@ pub enum SpectrumError {
          face is flat), so all {vertices} vertices are in its kernel and it has no nonzero \
          eigenvalue; {}list the kernel with --include-kernel, or use --operator family:T \
          (0 < T < 1), which sees the flat geometry through the Laplacian",
-        if *components > 1 {
-            format!(
-                "the mesh is {components} separate flat pieces (an unwelded triangle soup, if \
-                 there is one piece per face): weld its coincident vertices with --repair, or "
-            )
-        } else {
-            String::new()
-        }
+        weld_advice(*components, "flat ")
     )]
     VanishingOperator {
         /// The operator asked for (relative Dirac, its square, the family at `τ = 1`).
@@ -839,8 +832,9 @@ pub enum SpectrumError {
     /// Fewer nonzero eigenvalues exist than were asked for.
     #[error(
         "asked for {wanted} nonzero eigenvalues, but outside its kernel of dimension \
-         {kernel_dimension} the operator has only {available}; ask for fewer, or list the \
-         kernel too (--include-kernel)"
+         {kernel_dimension} the operator has only {available}; {}ask for fewer, or list the \
+         kernel too (--include-kernel)",
+        weld_advice(*components, "")
     )]
     TooFewNonzero {
         /// Nonzero eigenvalues wanted.
@@ -849,6 +843,9 @@ pub enum SpectrumError {
         available: usize,
         /// Quaternionic dimension of the kernel.
         kernel_dimension: usize,
+        /// Connected components of the mesh: each carries its own kernel, so a triangle soup
+        /// (one component per face) has a kernel of about the whole space.
+        components: usize,
     },
     /// The matrix the eigensolver factorises is numerically singular: the operator nearly
     /// vanishes somewhere without vanishing exactly (almost but not exactly flat faces), so its
@@ -1264,6 +1261,19 @@ fn normalized(
     }
 }
 
+/// The advice, for an error about the kernel, that a mesh in several pieces may be an
+/// unwelded triangle soup (empty for one piece); `kind` qualifies the pieces ("flat ").
+fn weld_advice(components: usize, kind: &str) -> String {
+    if components > 1 {
+        format!(
+            "the mesh is {components} separate {kind}pieces (an unwelded triangle soup, if there \
+             is one piece per face): weld its coincident vertices with --repair, or "
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// Fails unless `wanted` nonzero pairs exist outside the kernel (`available` of them do).
 fn check_available<T: Scalar<Real = f64>>(
     kernel: &ExactKernel<T>,
@@ -1288,6 +1298,7 @@ fn check_available<T: Scalar<Real = f64>>(
             wanted,
             available,
             kernel_dimension: summary.dimension,
+            components: mesh.topology().components.len(),
         }
     })
 }

@@ -290,16 +290,8 @@ impl FirstOrder {
         let operator = pencil(&d)?;
         drop(d);
         // After the matrices, whose assembly is the peak of memory here.
-        let gauss_map = surface == SecondSurface::GaussMap;
-        let kernel = first_order_kernel(
-            mesh,
-            masses,
-            f2,
-            &flat,
-            potential,
-            gauss_map.then_some(flat_tolerance),
-            surface,
-        );
+        let kernel =
+            first_order_kernel(mesh, masses, f2, &flat, potential, flat_tolerance, surface);
         Ok(Self {
             operator,
             exact,
