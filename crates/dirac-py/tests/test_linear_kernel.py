@@ -8,31 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import scipy.linalg
 
 import dirac_spectra as ds
 from conftest import grid
-
-
-def dense_reference(V: np.ndarray, F: np.ndarray, operator: str) -> tuple[int, np.ndarray]:
-    """``(dim ker P, the nonzero λ of P x = λ Q x)`` in the real ``4n × 4n`` form, each
-    quaternionic eigenvalue 4 times. The kernel ``K`` of ``P`` is where its eigenvalues are
-    below ``10⁻¹⁰`` of the largest; every eigenvector with ``λ ≠ 0`` is ``y + K c`` with ``y``
-    orthogonal to ``K`` and ``Q K`` (``(Q K)ᵀ x = 0`` and ``Kᵀ Q K = 0``), where ``P`` is
-    definite, so ``λ = 1/μ`` of the compressed pencil ``Zᵀ Q Z = μ Zᵀ P Z``."""
-    P, Q, _ = ds.operator_matrices(V, F, operator)
-    P, Q = P.toarray(), Q.toarray()
-    w, U = np.linalg.eigh(P)
-    K = U[:, w < 1e-10 * w.max()]
-    u, s, _ = np.linalg.svd(np.hstack([K, Q @ K]), full_matrices=True)
-    Z = u[:, (s > 1e-10 * s.max()).sum() :]
-    mu = scipy.linalg.eigh(Z.T @ Q @ Z, Z.T @ P @ Z, eigvals_only=True)
-    return K.shape[1] // 4, 1 / mu[np.abs(mu) > 1e-12 * np.abs(mu).max()]
-
-
-def by_magnitude(values: np.ndarray) -> np.ndarray:
-    """Sorted by |λ| (to 8 digits, so that ±λ stay together), then by λ."""
-    return values[np.lexsort((values, np.round(np.abs(values), 8)))]
+from pencils import by_magnitude, dense_reference
 
 
 def ring_faces(rings: int, around: int) -> np.ndarray:

@@ -115,12 +115,15 @@ def test_read_mesh_can_repair(tmp_path):
         ds.read_and_repair(tmp_path / "missing.obj")
 
 
-def test_the_relative_dirac_operator_of_a_soup_points_to_repair_in_python_terms():
-    # Every face of a soup is its own flat piece: D_N vanishes, and the error says how to weld
-    # the pieces with this package, not with the command line's --repair.
+@pytest.mark.parametrize("operator", ["relative-dirac", "extrinsic-dirac"])
+def test_the_dirac_operators_of_a_soup_point_to_repair_in_python_terms(operator):
+    # Every face of a soup is its own flat piece: D_N vanishes, and D_f has only each face's
+    # constant and linear function, nothing else; the error says how to weld the pieces with
+    # this package, not with the command line's --repair.
     Vs, Fs = soup(*torus(12, 6))
     with pytest.raises(ds.KernelError, match=r"dirac_spectra\.repair\(V, F\)") as error:
-        ds.spectrum(Vs, Fs, k=4)
+        ds.spectrum(Vs, Fs, k=4, operator=operator)
     assert "--repair" not in str(error.value)
+    assert f"{len(Fs)} separate" in str(error.value)
     repaired = ds.repair(Vs, Fs)
-    assert ds.spectrum(repaired.vertices, repaired.faces, k=4).converged.all()
+    assert ds.spectrum(repaired.vertices, repaired.faces, k=4, operator=operator).converged.all()

@@ -1,0 +1,86 @@
+"""Every operator on a family of man-made solids against a dense scipy solve of the same pencil.
+
+The solids are those of the Python tests (`crates/dirac-py/tests/test_man_made_solids.py`),
+over a grid of sizes: prisms of circular, elliptic and toothed sections with 8, 32 and 128
+sides, 2, 3 and 8 rings, capped by fans of thin triangles, around a centre, or open; cubes of
+flat grids; cones. The reference (`crates/dirac-py/tests/pencils.py`) finds the kernel of `P`
+numerically and solves the compressed pencil densely, knowing nothing of flat vertices, pieces,
+linear functions or rulings. Meshes above `--max-vertices` are skipped (the dense solve is
+`(4n)³`). One line per mesh and operator, then the counts:
+
+    python benches/python/man_made_vs_scipy.py --max-vertices 700
+
+`OK`: the kernel dimensions agree and every nonzero eigenvalue is within `--rtol` of scipy's;
+`ERROR`: the package raised (its message follows); `DIFFERENT`: anything else.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import pathlib
+import sys
+
+import numpy as np
+
+import dirac_spectra as ds
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "crates/dirac-py/tests"))
+from pencils import by_magnitude, dense_reference  # noqa: E402
+from test_man_made_solids import OPERATORS, cone, cube, polygon, prism  # noqa: E402
+
+
+def solids():
+    """``(name, V, F)`` of every solid of the sweep."""
+    sections = {
+        "circle": lambda n: polygon([1.0] * n),
+        "ellipse": lambda n: polygon([1.0] * n) * [2.0, 0.7],
+        "toothed": lambda n: polygon([1.0, 1.2] * (n // 2)),
+    }
+    for (kind, section), sides, rings, caps in itertools.product(
+        sections.items(), (8, 32, 128), (2, 3, 8), ("fan", "centre", "none")
+    ):
+        yield (f"{kind} prism, {sides} sides, {rings} rings, caps {caps}",
+               *prism(section(sides), rings, caps))
+    for cuts in (2, 5, 10):
+        yield (f"cube of {cuts} x {cuts} grids", *cube(cuts))
+    for around in (16, 100):
+        yield (f"cone of {around}", *cone(around))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--max-vertices", type=int, default=700)
+    parser.add_argument("-k", type=int, default=10)
+    parser.add_argument("--rtol", type=float, default=1e-7)
+    parser.add_argument("--threshold", type=float, default=1e-12,
+                        help="the reference's kernel: eigenvalues of P below this × the largest")
+    args = parser.parse_args()
+    counts: dict[str, int] = {}
+    for name, V, F in solids():
+        if len(V) > args.max_vertices:
+            continue
+        for operator, tau in OPERATORS:
+            label = operator if tau is None else f"{operator}:{tau}"
+            dimension, reference = dense_reference(V, F, operator, tau, args.threshold)
+            try:
+                got = ds.spectrum(V, F, k=args.k, operator=operator, tau=tau, eigenvectors=False)
+            except ds.errors.DiracError as error:
+                status, detail = "ERROR", f"{type(error).__name__}: {error}"
+                finite = len(reference) // 4
+                detail += f" (scipy: kernel {dimension}, {finite} finite nonzero eigenvalues)"
+            else:
+                listed = np.count_nonzero(got.eigenvalues == 0)
+                ours = by_magnitude(np.repeat(got.eigenvalues[listed:], 4))
+                theirs = by_magnitude(reference)[: len(ours)]
+                gap = np.max(np.abs(ours - theirs) / np.abs(theirs)) if len(ours) else 0.0
+                agree = got.kernel_dimension == dimension and gap <= args.rtol
+                status = "OK" if agree else "DIFFERENT"
+                detail = f"kernel {got.kernel_dimension} (scipy {dimension}), largest gap {gap:.1e}"
+            counts[status] = counts.get(status, 0) + 1
+            print(f"{status:9} {name} [{len(V)} vertices] {label}: {detail}", flush=True)
+    print(counts)
+
+
+if __name__ == "__main__":
+    main()
