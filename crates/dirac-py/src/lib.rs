@@ -21,8 +21,8 @@ use dirac::spectrum::{
 };
 use dirac::well::PotentialWell;
 use dirac::{
-    Normalization, Operator, OperatorNameError, Parameter, SolverBackend, SpectrumError,
-    SpectrumOptions,
+    ConnectivityMismatch, Normalization, Operator, OperatorNameError, Parameter, SolverBackend,
+    SpectrumError, SpectrumOptions,
 };
 use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
@@ -336,8 +336,19 @@ fn spectrum<'py>(
     relative_to: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
+    // Checked before the reference is built from the faces, which would otherwise name a face
+    // whose vertex the shorter reference lacks as an invalid mesh.
     let reference = relative_to
-        .map(|positions| convert::mesh(py, &positions, &faces))
+        .map(|positions| match positions.as_array().nrows() {
+            rows if rows == mesh.vertex_count() => convert::mesh(py, &positions, &faces),
+            rows => Err(spectrum_error(
+                py,
+                &SpectrumError::ReferenceConnectivity(ConnectivityMismatch::VertexCount {
+                    this: mesh.vertex_count(),
+                    other: rows,
+                }),
+            )),
+        })
         .transpose()?;
     let options = request.options(py)?;
     let result = run_reporting(py, request.threads, progress, |report| match &reference {

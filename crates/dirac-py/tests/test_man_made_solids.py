@@ -39,6 +39,14 @@ def polygon(radii: list[float]) -> np.ndarray:
     return np.stack([radii * np.cos(angle), radii * np.sin(angle)], axis=1)
 
 
+def cut(section: np.ndarray, cuts: int) -> np.ndarray:
+    """The polygon ``section`` with each side cut into ``cuts`` equal edges: flat panels with
+    columns of vertices between their creases once extruded."""
+    following = np.roll(section, -1, axis=0)
+    steps = np.arange(cuts)[:, np.newaxis, np.newaxis] / cuts
+    return (section + steps * (following - section)).transpose(1, 0, 2).reshape(-1, 2)
+
+
 def cube(cuts: int) -> tuple[np.ndarray, np.ndarray]:
     """The unit cube, each face a flat grid of ``cuts × cuts`` quads split in two."""
     index: dict[tuple[float, ...], int] = {}
@@ -77,6 +85,7 @@ SOLIDS = {
     "12-gon prism, fan caps": prism(polygon([1.0] * 12), 2, "fan"),
     "toothed prism, fan caps": prism(polygon([1.0, 1.3] * 6), 3, "fan"),
     "elliptic prism, centred caps": prism(polygon([1.0] * 16) * [2.0, 0.7], 4, "centre"),
+    "hexagonal prism of panels cut twice, centred caps": prism(cut(polygon([1.0] * 6), 2), 3, "centre"),
     "cube of 5 × 5 grids": cube(5),
     "cone": cone(16),
 }

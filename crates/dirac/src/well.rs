@@ -26,8 +26,8 @@ pub enum WellError {
         /// Number of vertices.
         vertex_count: usize,
     },
-    /// A parameter of the well is not a finite number (or the width is not positive).
-    #[error("well parameter {name} = {value} is invalid")]
+    /// A parameter of the well is negative or not a finite number.
+    #[error("well parameter {name} = {value} is invalid: it must be a finite number ≥ 0")]
     InvalidParameter {
         /// Parameter name.
         name: &'static str,

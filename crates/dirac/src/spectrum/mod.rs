@@ -695,7 +695,10 @@ impl SecondSurface {
 #[non_exhaustive]
 pub enum SpectrumError {
     /// `k` is zero or exceeds what the mesh has.
-    #[error("cannot compute {k} eigenvalues on a mesh with {vertices} vertices")]
+    #[error(
+        "cannot compute {k} eigenvalues on a mesh with {vertices} vertices: ask for between 1 \
+         and {vertices}"
+    )]
     InvalidCount {
         /// Requested count.
         k: usize,
