@@ -293,7 +293,7 @@ fn inputs_that_cannot_run_exit_1() {
     let out = dir.join("out");
     let output = dirac(&["batch", text(&empty), "--out", text(&out)]);
     assert_eq!(output.status.code(), Some(1));
-    assert!(stderr(&output).contains("no .obj, .off or .ply"));
+    assert!(stderr(&output).contains("no .obj, .off, .ply or .stl"));
 
     let list = dir.join("same-names.txt");
     fs::write(&list, "x/m.off\ny/m.off\n").expect("writable");

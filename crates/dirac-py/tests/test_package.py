@@ -46,6 +46,41 @@ def test_the_default_mesh_reads_back_from_every_writable_format(tmp_path):
         np.testing.assert_allclose(V2, V, rtol=1e-15 if name.endswith("ply") else 1e-12)
 
 
+def write_stl(path, triangles: np.ndarray, binary: bool) -> None:
+    """``triangles`` ``(m, 3, 3)`` as an STL file, each with its own corners (written here with
+    numpy, not by the package, which writes no STL)."""
+    if binary:
+        records = np.zeros(len(triangles), dtype=[("normal", "<f4", 3), ("corners", "<f4", 9),
+                                                  ("attribute", "<u2")])
+        records["corners"] = triangles.reshape(-1, 9)
+        header = b"solid written by numpy".ljust(80) + np.uint32(len(triangles)).tobytes()
+        path.write_bytes(header + records.tobytes())
+    else:
+        facets = "".join(
+            "facet normal 0 0 0\n outer loop\n"
+            + "".join(f"  vertex {x!r} {y!r} {z!r}\n" for x, y, z in corners)
+            + " endloop\nendfacet\n"
+            for corners in triangles.tolist()
+        )
+        path.write_text(f"solid spot\n{facets}endsolid spot\n")
+
+
+@pytest.mark.parametrize("binary", [False, True])
+def test_an_stl_file_reads_as_the_mesh_it_was_written_from(tmp_path, binary):
+    V, F = ds.default_mesh()
+    path = tmp_path / "spot.stl"
+    write_stl(path, V[F], binary)
+    V2, F2 = ds.read_mesh(path)
+    # The corners shared by several triangles are one vertex again, and the faces keep their
+    # order, corners and orientation.
+    assert V2.shape == V.shape and F2.shape == F.shape
+    expected = V[F].astype(np.float32) if binary else V[F]
+    np.testing.assert_array_equal(V2[F2], expected)
+    first = ds.spectrum(V, F, k=6, operator="laplace").eigenvalues
+    np.testing.assert_allclose(ds.spectrum(V2, F2, k=6, operator="laplace").eigenvalues, first,
+                               rtol=1e-6 if binary else 1e-12)
+
+
 @pytest.mark.parametrize("operator", ["relative-dirac", "laplace", "extrinsic-dirac"])
 def test_eigenvalues_are_invariant_under_rigid_motions(operator):
     V, F = torus(30, 12)
@@ -121,7 +156,7 @@ def test_file_errors(tmp_path):
     with pytest.raises(ds.MeshFileError, match="line 3"):
         ds.read_mesh(bad)
     with pytest.raises(ds.MeshFileError, match="unknown mesh format"):
-        ds.read_mesh(tmp_path / "mesh.stl")
+        ds.read_mesh(tmp_path / "mesh.3ds")
     V, F = icosphere(0)
     with pytest.raises(ds.MeshFileError, match="cannot write this format"):
         ds.write_mesh(tmp_path / "mesh.stl", V, F)

@@ -22,7 +22,7 @@
 //!
 //! | module | what it holds |
 //! |---|---|
-//! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF and PLY files; spheres, tori, patches |
+//! | [`TriMesh`], [`io`], [`generators`] | validated meshes; OBJ, OFF, PLY and STL files; spheres, tori, patches |
 //! | [`repair`](mod@repair) | meshes as downloaded made valid: merged vertices, degenerate faces dropped, non-manifold elements split, faces oriented, with a report |
 //! | [`geometry`], [`curvature`], [`operators`], [`anisotropic`] | areas, masses, the cotangent Laplacian, `D_N`, `D_f`, curvature, the anisotropic Laplacian |
 //! | [`spectrum`](mod@spectrum) | each operator's eigenproblem and its solution ([`spectrum()`], [`eigenproblem`]) |

@@ -1,9 +1,11 @@
-//! OBJ, OFF and PLY readers on small hand-written files: the accepted syntax (corner forms,
-//! relative indices, polygons fan-triangulated, comments, extra columns and properties,
-//! binary encodings), and malformed inputs, each of which is a typed error naming the line or
+//! OBJ, OFF, PLY and STL readers on small hand-written files: the accepted syntax (corner
+//! forms, relative indices, polygons fan-triangulated, comments, extra columns and properties,
+//! binary encodings, STL corners welded), and malformed inputs, each of which is a typed error naming the line or
 //! element, never a panic.
 
-use dirac::io::{ParseError, ReadError, read_mesh, read_obj_from, read_off_from, read_ply_from};
+use dirac::io::{
+    ParseError, ReadError, read_mesh, read_obj_from, read_off_from, read_ply_from, read_stl_from,
+};
 use dirac::{MeshError, TriMesh};
 
 fn obj(text: &str) -> Result<dirac::io::RawMesh, ParseError> {
@@ -470,6 +472,156 @@ fn ply_malformed_inputs_are_typed_errors() {
     ));
 }
 
+// ---------------------------------------------------------------- STL
+
+/// The four faces of a tetrahedron, outward, each as its three corners.
+const TETRAHEDRON: [[[f64; 3]; 3]; 4] = [
+    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]],
+    [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, 1.0, 0.0]],
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+];
+
+fn ascii_stl(triangles: &[[[f64; 3]; 3]]) -> String {
+    let mut text = String::from("solid tetra\n");
+    for corners in triangles {
+        text += "  facet normal 0 0 0\n    outer loop\n";
+        for [x, y, z] in corners {
+            text += &format!("      vertex {x:e} {y:e} {z:e}\n");
+        }
+        text += "    endloop\n  endfacet\n";
+    }
+    text + "endsolid tetra\n"
+}
+
+/// A binary STL whose 80-byte header begins with `header` (which may say `solid`).
+fn binary_stl(triangles: &[[[f64; 3]; 3]], header: [u8; 16]) -> Vec<u8> {
+    let mut bytes = header.to_vec();
+    bytes.resize(80, b' ');
+    bytes.extend((triangles.len() as u32).to_le_bytes());
+    for corners in triangles {
+        bytes.extend([0u8; 12]);
+        for c in corners.iter().flatten() {
+            bytes.extend((*c as f32).to_le_bytes());
+        }
+        bytes.extend([0u8; 2]);
+    }
+    bytes
+}
+
+#[test]
+fn stl_ascii_and_binary_weld_equal_corners_into_one_mesh() {
+    let ascii = read_stl_from(ascii_stl(&TETRAHEDRON).as_bytes()).unwrap();
+    // Vertices numbered as their first corner appears.
+    let positions = vec![
+        [0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    assert_eq!(ascii.positions, positions);
+    assert_eq!(
+        ascii.faces,
+        vec![[0, 1, 2], [0, 2, 3], [0, 3, 1], [2, 1, 3]]
+    );
+    let mesh = ascii.clone().into_mesh().unwrap();
+    assert!(mesh.topology().is_closed());
+    for header in [*b"binary tetra    ", *b"solid tetra     "] {
+        assert_eq!(
+            read_stl_from(&binary_stl(&TETRAHEDRON, header)).unwrap(),
+            ascii
+        );
+    }
+    // −0 is the same point as 0; a corner off by one unit in the last place is not.
+    let mut moved = TETRAHEDRON;
+    moved[1][0] = [-0.0, 0.0, -0.0];
+    moved[3][2][2] = f64::from_bits(1.0f64.to_bits() + 1);
+    let raw = read_stl_from(ascii_stl(&moved).as_bytes()).unwrap();
+    assert_eq!(raw.positions.len(), 5);
+    assert_eq!(raw.faces[1][0], 0);
+}
+
+#[test]
+fn a_mesh_written_as_stl_reads_back_as_the_same_mesh() {
+    // Each face written with its own corners, in single precision: welding must find every
+    // shared vertex again, and nothing else.
+    let spot = dirac::io::default_mesh();
+    let triangles: Vec<[[f64; 3]; 3]> = (spot.faces().iter())
+        .map(|f| f.map(|v| spot.positions()[v]))
+        .collect();
+    let raw = read_stl_from(&binary_stl(&triangles, *b"spot            ")).unwrap();
+    let mesh = raw.into_mesh().unwrap();
+    assert_eq!(mesh.vertex_count(), spot.vertex_count());
+    assert_eq!(mesh.face_count(), spot.face_count());
+    assert_eq!(mesh.topology().genus(), spot.topology().genus());
+    for (read, written) in mesh.faces().iter().zip(&triangles) {
+        for (&v, p) in read.iter().zip(written) {
+            assert_eq!(mesh.positions()[v], p.map(|x| f64::from(x as f32)));
+        }
+    }
+}
+
+#[test]
+fn stl_facets_of_more_corners_are_fan_triangulated_and_solids_may_repeat() {
+    let text = "solid a\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                vertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid a\n\
+                solid b\r\nfacet normal 0 0 1\r\n outer loop\r\n\tvertex 0 0 0\r\n\
+                vertex 1 1 0\r\nvertex 2 0 0\r\nendloop\r\nendfacet\r\nendsolid\r\n";
+    let raw = read_stl_from(text.as_bytes()).unwrap();
+    assert_eq!(raw.positions[..4], SQUARE);
+    assert_eq!(raw.faces, vec![[0, 1, 2], [0, 2, 3], [0, 2, 4]]);
+}
+
+#[test]
+fn stl_malformed_inputs_are_typed_errors() {
+    let facet = |body: &str| {
+        let text = format!("solid x\nfacet normal 0 0 1\nouter loop\n{body}");
+        read_stl_from(text.as_bytes()).unwrap_err()
+    };
+    assert!(matches!(
+        facet("vertex 0 0 0\nvertex 1 0\n"),
+        ParseError::MissingValues {
+            line: 5,
+            expected: 3,
+            found: 2
+        }
+    ));
+    assert!(matches!(
+        facet("vertex 0 0 0\nvertex 1 x 0\n"),
+        ParseError::BadNumber { line: 5, .. }
+    ));
+    assert!(matches!(
+        facet("vertex 0 0 0\nvertex 1 0 0\nendloop\nendfacet\n"),
+        ParseError::PolygonTooSmall { line: 2, found: 2 }
+    ));
+    assert!(matches!(
+        facet("vertex 0 0 0\nvertex 1 0 0\nvertex 1 1 0\n"),
+        ParseError::UnexpectedEnd { line: 6, .. }
+    ));
+    assert!(matches!(
+        facet("vertex 0 0 0\nfacet normal 0 0 1\n"),
+        ParseError::UnexpectedKeyword { line: 5, .. }
+    ));
+    assert!(matches!(
+        read_stl_from(b"solid x\nvertex 0 0 0\n").unwrap_err(),
+        ParseError::UnexpectedKeyword { line: 2, .. }
+    ));
+    assert!(matches!(
+        read_stl_from(b"OFF\n").unwrap_err(),
+        ParseError::BadHeader { line: 1, .. }
+    ));
+    // A binary file cut short, even one whose header says `solid`, is named as such.
+    let mut truncated = binary_stl(&TETRAHEDRON, *b"solid tetra     ");
+    truncated.truncate(truncated.len() - 7);
+    let error = read_stl_from(&truncated).unwrap_err();
+    assert!(
+        error.to_string().contains("4 triangles needs 284 bytes"),
+        "{error}"
+    );
+    assert!(error.to_string().contains("has 277"), "{error}");
+    assert!(read_stl_from(&[]).is_err());
+}
+
 // ---------------------------------------------------------------- files
 
 #[test]
@@ -517,9 +669,12 @@ fn read_mesh_names_the_file() {
     assert_eq!(old_to_new, vec![Some(0), None, Some(1), Some(2)]);
 
     assert!(matches!(
-        read_mesh(dir.join("mesh.stl")).unwrap_err(),
+        read_mesh(dir.join("mesh.3ds")).unwrap_err(),
         ReadError::UnknownFormat { .. }
     ));
+    let path = dir.join("tetrahedron.STL");
+    std::fs::write(&path, binary_stl(&TETRAHEDRON, *b"solid but binary")).unwrap();
+    assert_eq!(read_mesh(&path).unwrap().face_count(), 4);
     assert!(matches!(
         read_mesh(dir.join("missing.ply")).unwrap_err(),
         ReadError::Open { .. }

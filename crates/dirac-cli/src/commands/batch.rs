@@ -98,7 +98,7 @@ Examples:
 /// Arguments of `dirac batch`.
 #[derive(Debug, Args)]
 pub struct BatchArgs {
-    /// A directory (all .obj, .off and .ply files in it) or a text file of mesh paths, one per
+    /// A directory (all .obj, .off, .ply and .stl files in it) or a text file of mesh paths, one per
     /// line (`#` comments; relative to the list's directory).
     pub input: PathBuf,
 

@@ -62,7 +62,7 @@ pub struct DescriptorArgs {
     #[arg(value_enum)]
     pub kind: DescriptorKind,
 
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    /// Mesh file (.obj, .off, .ply or .stl); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
 
     /// Operator and eigensolver (`hks` always uses the Laplacian).

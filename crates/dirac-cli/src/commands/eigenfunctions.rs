@@ -48,7 +48,7 @@ Examples:
 /// Arguments of `dirac eigenfunctions`.
 #[derive(Debug, Args)]
 pub struct EigenfunctionsArgs {
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    /// Mesh file (.obj, .off, .ply or .stl); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
 
     /// Operator and eigensolver.

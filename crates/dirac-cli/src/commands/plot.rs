@@ -41,7 +41,7 @@ pub enum PlotCommand {
 /// Arguments of `dirac plot spectra`.
 #[derive(Debug, Args)]
 pub struct SpectraArgs {
-    /// Mesh files (.obj, .off or .ply); without any, the built-in `spot` mesh.
+    /// Mesh files (.obj, .off, .ply or .stl); without any, the built-in `spot` mesh.
     pub meshes: Vec<PathBuf>,
 
     /// Operator and eigensolver (for all meshes).

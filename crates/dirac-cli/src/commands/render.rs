@@ -49,7 +49,7 @@ Examples:
 #[derive(Debug, Args)]
 #[command(after_help = format!("{PICTURE_EXIT_CODES}{QUANTITIES_AND_EXAMPLES}"))]
 pub struct RenderArgs {
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    /// Mesh file (.obj, .off, .ply or .stl); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
 
     /// Operator and eigensolver (`--quantity hks` always uses the Laplacian).

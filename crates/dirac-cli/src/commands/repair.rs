@@ -32,7 +32,7 @@ Examples:
 /// Arguments of `dirac repair`.
 #[derive(Debug, Args)]
 pub struct RepairArgs {
-    /// Mesh file (.obj, .off or .ply).
+    /// Mesh file (.obj, .off, .ply or .stl).
     pub input: PathBuf,
 
     /// The repaired mesh: a .obj or .ply file.

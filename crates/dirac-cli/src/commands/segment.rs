@@ -57,7 +57,7 @@ Examples:
 /// Arguments of `dirac segment`.
 #[derive(Debug, Args)]
 pub struct SegmentArgs {
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    /// Mesh file (.obj, .off, .ply or .stl); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
 
     /// Operator and eigensolver (default relative Dirac, as in the paper).

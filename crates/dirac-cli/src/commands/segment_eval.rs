@@ -41,7 +41,7 @@ Examples:
 /// Arguments of `dirac segment-eval`.
 #[derive(Debug, Args)]
 pub struct SegmentEvalArgs {
-    /// Mesh file (.obj, .off or .ply), read without repair.
+    /// Mesh file (.obj, .off, .ply or .stl), read without repair.
     pub mesh: PathBuf,
 
     /// The segmentation to score: a .seg file, one segment number per face.

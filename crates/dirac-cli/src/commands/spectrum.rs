@@ -16,7 +16,7 @@ use crate::common::solve_args::SolveArgs;
 /// Arguments of `dirac spectrum`.
 #[derive(Debug, Args)]
 pub struct SpectrumArgs {
-    /// Mesh file (.obj, .off or .ply); without it, the built-in `spot` mesh.
+    /// Mesh file (.obj, .off, .ply or .stl); without it, the built-in `spot` mesh.
     pub mesh: Option<PathBuf>,
 
     /// Operator and eigensolver.

@@ -187,7 +187,7 @@ pub enum CliError {
     #[error("cannot write the result: {0}")]
     Stdout(io::Error),
     /// `dirac batch`: the input names no mesh.
-    #[error("{}: no .obj, .off or .ply meshes found", .0.display())]
+    #[error("{}: no .obj, .off, .ply or .stl meshes found", .0.display())]
     NoMeshes(PathBuf),
     /// `dirac batch`: two inputs share a file name, up to case, so their outputs would
     /// collide.

@@ -15,9 +15,10 @@ from .errors import translated
 def read_mesh(
     path: str | os.PathLike[str], repair: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``(V, F)`` of a ``.obj``, ``.off`` or ``.ply`` file (ASCII or binary PLY): float64 ``(n, 3)``
-    positions and int64 ``(m, 3)`` triangles. The mesh is validated: a file that is not a
-    manifold, consistently oriented triangle mesh raises ``MeshError`` naming the element.
+    """``(V, F)`` of a ``.obj``, ``.off``, ``.ply`` or ``.stl`` file (PLY and STL ASCII or binary;
+    STL corners with equal coordinates welded): float64 ``(n, 3)`` positions and int64 ``(m, 3)``
+    triangles. The mesh is validated: a file that is not a manifold, consistently oriented
+    triangle mesh raises ``MeshError`` naming the element.
 
     With ``repair=True`` the file is repaired instead (:func:`dirac_spectra.repair`, default
     tolerance) and the repaired ``(V, F)`` returned; the report and the maps back to the file's

@@ -83,6 +83,7 @@ def _read_and_repair(path: str, merge_distance: float) -> dict[str, Any]:
 def read_and_repair(
     path: str | os.PathLike[str], merge_distance: float = DEFAULT_MERGE_DISTANCE
 ) -> Repaired:
-    """Reads a ``.obj``, ``.off`` or ``.ply`` file without validating it and repairs it as
-    :func:`repair` does; indices in the report and the origins are those of the file."""
+    """Reads a ``.obj``, ``.off``, ``.ply`` or ``.stl`` file without validating it and repairs it
+    as :func:`repair` does; indices in the report and the origins are those of the file (for STL,
+    of its vertices after equal corners are welded)."""
     return _repaired(_read_and_repair(os.fspath(path), float(merge_distance)))

@@ -1,17 +1,20 @@
-//! Reading and writing meshes: OBJ, OFF and PLY (ASCII and binary) in, OBJ and PLY out.
+//! Reading and writing meshes: OBJ, OFF, PLY (ASCII and binary) and STL (ASCII and binary) in,
+//! OBJ and PLY out.
 //!
 //! Readers parse into a [`RawMesh`] (positions and fan-triangulated faces, not yet validated),
-//! so malformed files fail with a [`ParseError`] naming the line (OBJ, OFF) or element (PLY),
+//! so malformed files fail with a [`ParseError`] naming the line (OBJ, OFF, ASCII STL) or
+//! element (PLY),
 //! and a parsed but invalid mesh fails with the [`MeshError`] of [`TriMesh::new`]. No input
 //! makes a reader panic. [`read_mesh`] does both steps for a file chosen by extension.
 //!
-//! OBJ and OFF files are read line by line: a line ends at `\n` or `\r\n` and must be UTF-8
+//! OBJ, OFF and ASCII STL files are read line by line: a line ends at `\n` or `\r\n` and must be UTF-8
 //! (a byte-order mark at the start of the file is skipped), `#` starts a comment to the end of
 //! the line, and tokens are separated by ASCII whitespace (spaces and tabs).
 
 mod obj;
 mod off;
 mod ply;
+mod stl;
 
 use std::fs::File;
 use std::io::{self, BufRead};
@@ -24,6 +27,7 @@ use crate::{MeshError, TriMesh};
 pub use obj::{read_obj_from, write_obj, write_obj_to};
 pub use off::read_off_from;
 pub use ply::{PlyEncoding, PlyWriteOptions, read_ply_from, write_ply, write_ply_to};
+pub use stl::read_stl_from;
 
 /// Positions and triangles as read from a file: polygons are fan-triangulated
 /// (`v0 v1 … vk ↦ (v0, v_i, v_{i+1})`), vertex order is the file's, nothing is validated yet.
@@ -124,13 +128,23 @@ pub enum ParseError {
         /// What was still expected.
         expected: String,
     },
-    /// A malformed header (OFF).
+    /// A malformed header (OFF), or a file that is no STL of either kind.
     #[error("line {line}: {message}")]
     BadHeader {
         /// The line (1-based).
         line: usize,
         /// What is wrong.
         message: String,
+    },
+    /// A line begins with a keyword that cannot stand there (ASCII STL).
+    #[error("line {line}: found `{found}`, expected {expected}")]
+    UnexpectedKeyword {
+        /// The line (1-based).
+        line: usize,
+        /// The keyword found.
+        found: String,
+        /// What may stand there.
+        expected: &'static str,
     },
     /// The PLY parser rejected the file.
     #[error("PLY{}: {message}", at_line(*line))]
@@ -290,8 +304,8 @@ pub enum ReadError {
         /// The I/O error.
         source: io::Error,
     },
-    /// The extension is not `.obj`, `.off` or `.ply` (any case).
-    #[error("{}: unknown mesh format (expected a .obj, .off or .ply file)", path.display())]
+    /// The extension is not `.obj`, `.off`, `.ply` or `.stl` (any case).
+    #[error("{}: unknown mesh format (expected a .obj, .off, .ply or .stl file)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -364,6 +378,9 @@ pub enum Format {
     Off,
     /// Polygon File Format (ASCII or binary).
     Ply,
+    /// Stereolithography (ASCII or binary): triangles with their own corners, welded where
+    /// their coordinates are equal.
+    Stl,
 }
 
 impl Format {
@@ -374,6 +391,7 @@ impl Format {
             "obj" => Some(Self::Obj),
             "off" => Some(Self::Off),
             "ply" => Some(Self::Ply),
+            "stl" => Some(Self::Stl),
             _ => None,
         }
     }
@@ -386,7 +404,7 @@ pub fn read_raw(path: impl AsRef<Path>) -> Result<RawMesh, ReadError> {
     parse_raw(path, &read_bytes(path)?)
 }
 
-/// Reads and validates a mesh file (`.obj`, `.off` or `.ply`, chosen by extension).
+/// Reads and validates a mesh file (`.obj`, `.off`, `.ply` or `.stl`, chosen by extension).
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<TriMesh, ReadError> {
     let path = path.as_ref();
     parse_mesh(path, &read_bytes(path)?)
@@ -403,6 +421,7 @@ pub fn parse_raw(path: &Path, bytes: &[u8]) -> Result<RawMesh, ReadError> {
         Format::Obj => read_obj_from(bytes),
         Format::Off => read_off_from(bytes),
         Format::Ply => read_ply_from(bytes),
+        Format::Stl => read_stl_from(bytes),
     }
     .map_err(|source| ReadError::Parse {
         path: path.to_path_buf(),
