@@ -8,8 +8,9 @@
 //! and three corners as `f32` and a 2-byte attribute (50 bytes). ASCII: `solid [name]`, then per
 //! triangle `facet normal nx ny nz`, `outer loop`, three `vertex x y z` lines, `endloop`,
 //! `endfacet`, and `endsolid [name]`; a file may hold several solids. A file is binary when its
-//! size is exactly what its count announces (binary headers may begin with `solid` too), ASCII
-//! when it begins with `solid`.
+//! size is exactly what its count announces (binary headers may begin with `solid` too), else
+//! ASCII when it is text beginning with `solid`, else binary if it holds at least the triangles
+//! its count announces (bytes after them are ignored).
 
 use std::collections::HashMap;
 
@@ -23,37 +24,41 @@ const BINARY_TRIANGLE: usize = 50;
 /// Parses an STL file (ASCII or binary), welding corners with equal coordinates; vertices are
 /// numbered in the order their first corner appears.
 pub fn read_stl_from(bytes: &[u8]) -> Result<RawMesh, ParseError> {
-    match binary_triangle_count(bytes) {
-        Some(count) => Ok(read_binary(&bytes[BINARY_HEADER..], count)),
-        // Text never holds a NUL byte; a binary file nearly always does (its attribute bytes),
-        // so a binary file whose header begins with `solid` and whose size is wrong (a
-        // truncated download) is named as such rather than read as text.
-        None if bytes.trim_ascii_start().starts_with(b"solid") && !bytes.contains(&0) => {
-            read_ascii(bytes)
-        }
-        None => Err(not_stl(bytes)),
+    let size = bytes.len() as u128;
+    let binary = binary_triangle_count(bytes).map(|count| (count, binary_size(count)));
+    // Text never holds a NUL byte; a binary file nearly always does (its attribute bytes),
+    // so a binary file whose header begins with `solid` and whose size is wrong (a truncated
+    // download) is named as such rather than read as text.
+    let text = bytes.trim_ascii_start().starts_with(b"solid") && !bytes.contains(&0);
+    match binary {
+        Some((count, needed)) if needed == size => Ok(read_binary(bytes, count)),
+        _ if text => read_ascii(bytes),
+        // Some writers pad a binary file after its triangles.
+        Some((count, needed)) if needed < size => Ok(read_binary(bytes, count)),
+        _ => Err(not_stl(bytes)),
     }
 }
 
-/// The triangle count of a binary file whose size matches it.
-fn binary_triangle_count(bytes: &[u8]) -> Option<usize> {
-    let count = u32::from_le_bytes(bytes.get(80..BINARY_HEADER)?.try_into().ok()?) as usize;
-    let size = (count as u128) * (BINARY_TRIANGLE as u128) + BINARY_HEADER as u128;
-    (size == bytes.len() as u128).then_some(count)
+/// Bytes of a binary file of `count` triangles.
+fn binary_size(count: usize) -> u128 {
+    count as u128 * BINARY_TRIANGLE as u128 + BINARY_HEADER as u128
 }
 
-/// Why a file that is neither an ASCII nor a well-sized binary STL was refused.
+/// The triangle count a binary header announces.
+fn binary_triangle_count(bytes: &[u8]) -> Option<usize> {
+    let count = bytes.get(80..BINARY_HEADER)?.try_into().ok()?;
+    usize::try_from(u32::from_le_bytes(count)).ok()
+}
+
+/// Why a file that is neither an ASCII STL nor a binary one with all its triangles was refused.
 fn not_stl(bytes: &[u8]) -> ParseError {
-    let message = match bytes.get(80..BINARY_HEADER) {
-        Some(count) => {
-            let count = u32::from_le_bytes(count.try_into().expect("four bytes"));
-            format!(
-                "not an ASCII STL (text beginning with `solid`), and as a binary STL its count \
-                 of {count} triangles needs {} bytes, but the file has {} (truncated?)",
-                (count as u128) * (BINARY_TRIANGLE as u128) + BINARY_HEADER as u128,
-                bytes.len()
-            )
-        }
+    let message = match binary_triangle_count(bytes) {
+        Some(count) => format!(
+            "not an ASCII STL (text beginning with `solid`), and as a binary STL its count of \
+             {count} triangles needs {} bytes, but the file has {} (truncated?)",
+            binary_size(count),
+            bytes.len()
+        ),
         None => format!(
             "not an ASCII STL (text beginning with `solid`), and {} bytes are too few for the \
              {BINARY_HEADER}-byte header of a binary STL",
@@ -63,9 +68,10 @@ fn not_stl(bytes: &[u8]) -> ParseError {
     ParseError::BadHeader { line: 1, message }
 }
 
-/// The `count` triangles after a binary header.
-fn read_binary(body: &[u8], count: usize) -> RawMesh {
+/// The first `count` triangles after the binary header of `bytes`, which holds them.
+fn read_binary(bytes: &[u8], count: usize) -> RawMesh {
     let mut welder = Welder::with_capacity(count);
+    let body = &bytes[BINARY_HEADER..BINARY_HEADER + count * BINARY_TRIANGLE];
     for triangle in body.chunks_exact(BINARY_TRIANGLE) {
         let mut corners = [0; 3];
         for (corner, bytes) in corners.iter_mut().zip(triangle[12..48].chunks_exact(12)) {
