@@ -1,6 +1,6 @@
 """Every operator on a family of man-made solids against a dense scipy solve of the same pencil.
 
-The solids are those of the Python tests (`crates/dirac-py/tests/test_man_made_solids.py`),
+The solids are built as in the Python tests (`crates/dirac-py/tests/solids.py`),
 over a grid of sizes: prisms of circular, elliptic and toothed sections with 8, 32 and 128
 sides, each side one edge or cut into 2 or 3 (flat panels with columns of vertices between
 their creases), 2, 3 and 8 rings, capped by fans of thin triangles (uncut sides only: a fan
@@ -30,8 +30,8 @@ import numpy as np
 import dirac_spectra as ds
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "crates/dirac-py/tests"))
-from pencils import by_magnitude, dense_reference  # noqa: E402
-from test_man_made_solids import OPERATORS, cone, cube, cut, polygon, prism  # noqa: E402
+from pencils import OPERATORS, by_magnitude, dense_reference  # noqa: E402
+from solids import cone, cube, cut, polygon, prism  # noqa: E402
 
 
 def solids():

@@ -9,6 +9,11 @@ import scipy.linalg
 import dirac_spectra as ds
 
 
+# Every operator, with the weight τ of the family where it needs one.
+OPERATORS = [("relative-dirac", None), ("extrinsic-dirac", None), ("squared", None),
+             ("family", 0.5), ("laplace", None)]
+
+
 def dense_reference(
     V: np.ndarray,
     F: np.ndarray,

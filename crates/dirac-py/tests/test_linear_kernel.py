@@ -12,17 +12,7 @@ import pytest
 import dirac_spectra as ds
 from conftest import grid
 from pencils import by_magnitude, dense_reference
-
-
-def ring_faces(rings: int, around: int) -> np.ndarray:
-    """Two triangles per quad between consecutive rings of ``around`` vertices each, closed
-    around, counter-clockwise seen from outside for rings ordered by increasing angle."""
-    F = []
-    for j in range(rings - 1):
-        for i in range(around):
-            a, b = j * around + i, j * around + (i + 1) % around
-            F += [[a, b, b + around], [a, b + around, a + around]]
-    return np.array(F)
+from solids import cut, polygon, prism, ring_faces
 
 
 def tube(segments: int, rings: int, flare: float) -> tuple[np.ndarray, np.ndarray]:
@@ -69,25 +59,11 @@ def test_the_extrinsic_dirac_spectrum_matches_scipy(name, mesh, kernel):
     )
 
 
-def panel_tube(sides: int, cuts: int, rings: int) -> tuple[np.ndarray, np.ndarray]:
-    """An open tube whose section is the regular polygon of ``sides`` corners, each side cut into
-    ``cuts`` edges: flat panels meeting at straight creases from boundary to boundary."""
-    angle = 2 * np.pi * np.arange(sides + 1) / sides
-    corners = np.stack([np.cos(angle), np.sin(angle)], axis=1)
-    around = sides * cuts
-    section = [
-        corners[k // cuts] + (k % cuts) / cuts * (corners[k // cuts + 1] - corners[k // cuts])
-        for k in range(around)
-    ]
-    V = np.array([[x, y, z] for z in np.linspace(0, 1, rings) for x, y in section])
-    return V, ring_faces(rings, around)
-
-
 def test_the_relative_dirac_spectrum_of_a_tube_of_flat_panels_matches_scipy():
     """Along each crease the triangles of vertex normals have two equal corners, whose rows of
     ``D_N`` ask only equal values there: the kernel is a constant and a linear function per
     crease (12 on a hexagon), not one constant, and the spectrum matches scipy's."""
-    V, F = panel_tube(6, 3, 5)
+    V, F = prism(cut(polygon([1.0] * 6), 3), 5, "none")
     k = 12  # the ±λ of a hexagon come 12 at once
     got = ds.spectrum(V, F, k=k, operator="relative-dirac")
     dimension, reference = dense_reference(V, F, "relative-dirac")
@@ -105,7 +81,7 @@ def test_rulings_tied_at_single_vertices_carry_a_basis_of_the_kernel():
     only where the crease normals turn at the boundary: the kernel is larger than a constant
     and a linear function (scipy finds 6). The package removes a basis of it (6 functions of
     rulings) and its spectrum matches scipy's."""
-    V, F = panel_tube(6, 2, 5)
+    V, F = prism(cut(polygon([1.0] * 6), 2), 5, "none")
     k = 12
     got = ds.spectrum(V, F, k=k, operator="relative-dirac")
     dimension, reference = dense_reference(V, F, "relative-dirac")

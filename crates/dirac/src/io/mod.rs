@@ -3,13 +3,13 @@
 //!
 //! Readers parse into a [`RawMesh`] (positions and fan-triangulated faces, not yet validated),
 //! so malformed files fail with a [`ParseError`] naming the line (OBJ, OFF, ASCII STL) or
-//! element (PLY),
-//! and a parsed but invalid mesh fails with the [`MeshError`] of [`TriMesh::new`]. No input
-//! makes a reader panic. [`read_mesh`] does both steps for a file chosen by extension.
+//! element (PLY), and a parsed but invalid mesh fails with the [`MeshError`] of
+//! [`TriMesh::new`]. No input makes a reader panic. [`read_mesh`] does both steps for a file
+//! chosen by extension.
 //!
-//! OBJ, OFF and ASCII STL files are read line by line: a line ends at `\n` or `\r\n` and must be UTF-8
-//! (a byte-order mark at the start of the file is skipped), `#` starts a comment to the end of
-//! the line, and tokens are separated by ASCII whitespace (spaces and tabs).
+//! OBJ, OFF and ASCII STL files are read line by line: a line ends at `\n` or `\r\n` and must
+//! be UTF-8 (a byte-order mark at the start of the file is skipped), `#` starts a comment to the
+//! end of the line, and tokens are separated by ASCII whitespace (spaces and tabs).
 
 mod obj;
 mod off;

@@ -74,9 +74,10 @@ fn read_binary(bytes: &[u8], count: usize) -> RawMesh {
     let body = &bytes[BINARY_HEADER..BINARY_HEADER + count * BINARY_TRIANGLE];
     for triangle in body.chunks_exact(BINARY_TRIANGLE) {
         let mut corners = [0; 3];
-        for (corner, bytes) in corners.iter_mut().zip(triangle[12..48].chunks_exact(12)) {
+        // Bytes 0..12 are the facet normal, 48..50 the attribute.
+        for (corner, point) in corners.iter_mut().zip(triangle[12..48].chunks_exact(12)) {
             let p: [f64; 3] = std::array::from_fn(|c| {
-                let raw = bytes[4 * c..4 * c + 4].try_into().expect("four bytes");
+                let raw = point[4 * c..4 * c + 4].try_into().expect("four bytes");
                 f64::from(f32::from_le_bytes(raw))
             });
             *corner = welder.vertex(p);

@@ -1290,18 +1290,19 @@ fn check_available<T: Scalar<Real = f64>>(
     }
     let summary = kernel.summary();
     let vertices = mesh.vertex_count();
+    let components = mesh.topology().components.len();
     Err(if available == 0 && summary.flat_vertices == vertices {
         SpectrumError::VanishingOperator {
             operator,
             vertices,
-            components: mesh.topology().components.len(),
+            components,
         }
     } else {
         SpectrumError::TooFewNonzero {
             wanted,
             available,
             kernel_dimension: summary.dimension,
-            components: mesh.topology().components.len(),
+            components,
         }
     })
 }
