@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 
 use qscalar::Scalar;
-use qsparse::{DisjointSets, SparseMatrix, SparseVector};
+use qsparse::{DisjointSets, Gram, SparseMatrix, SparseVector};
 
 use crate::TriMesh;
 use crate::geometry::{norm, sub};
@@ -82,14 +82,23 @@ pub(super) struct PinnedVector<T> {
     pub pin: usize,
 }
 
-/// An orthogonally coupled mode as the pinned form restores it: orthogonalised against the
-/// earlier modes whose images share rows with its own (see [`ExactKernel::restoration`]).
+/// Orthogonally coupled modes `k_i` as the pinned form restores them, with their images
+/// `g_i = Q k_i`: the least squares restoration `x ← x + Σ k_i c_i` of one residual `r`,
+/// `c = (GᴴG)⁻¹ Gᴴ r / λ` (see [`ExactKernel::restoration`]).
 #[derive(Debug, Clone)]
-pub(super) struct Restoration<T> {
-    /// `k'`, the mode minus its earlier modes' parts.
-    pub vector: SparseVector<T>,
-    /// `g' = Q k'`, orthogonal to the images of the earlier modes.
-    pub image: SparseVector<T>,
+pub(super) enum Restoration<T> {
+    /// The modes of a group as they are, with the Cholesky factor of the Gram matrix of their
+    /// images: a fit costs their supports however many overlap.
+    Fit {
+        vectors: Vec<SparseVector<T>>,
+        images: Gram<T>,
+    },
+    /// One mode `k'` orthogonalised against the earlier modes of its group, whose images
+    /// were too close to dependent for the Gram form: `c = (g'* r) / (λ |g'|²)`.
+    Orthogonal {
+        vector: SparseVector<T>,
+        image: SparseVector<T>,
+    },
 }
 
 /// The kernel of a pencil that is known exactly: flat vertices and the modes of pieces.
@@ -99,12 +108,11 @@ pub(super) struct ExactKernel<T> {
     pub flat_vertices: Vec<usize>,
     /// The modes, by piece: the constant first, then a linear mode if the piece has one.
     pub modes: Vec<KernelMode<T>>,
-    /// For the pinned form: the orthogonally coupled modes, with the images of the modes of
-    /// a group orthogonalised in turn, a group being the modes whose images are joined by
-    /// shared rows of `Q` (the modes of a piece; pieces next to each other across a face whose
-    /// row does not vanish, as rulings are), so that every two images are orthogonal and the
-    /// least squares restoration `x ← x + Σ k'_i (g'_i* r)/(λ |g'_i|²)` of one residual `r` is
-    /// exact.
+    /// For the pinned form: the orthogonally coupled modes by group, a group being the modes
+    /// whose images are joined by shared rows of `Q` (the modes of a piece; pieces next to
+    /// each other across a face whose row does not vanish, as rulings are): different groups'
+    /// images are orthogonal, so the least squares restoration of one residual is exact group
+    /// by group.
     pub restoration: Vec<Restoration<T>>,
 }
 
@@ -293,32 +301,45 @@ fn restorations<T: Scalar<Real = f64>>(modes: &[KernelMode<T>], n: usize) -> Vec
     }
     members
         .iter()
-        .flat_map(|group| orthogonalised(group))
+        .filter(|group| !group.is_empty())
+        .flat_map(|group| {
+            let images: Vec<SparseVector<T>> = group.iter().map(|m| m.image.clone()).collect();
+            match Gram::new(&images) {
+                Some(images) => vec![Restoration::Fit {
+                    vectors: group.iter().map(|m| m.vector.clone()).collect(),
+                    images,
+                }],
+                None => orthogonalised(group),
+            }
+        })
         .collect()
 }
 
 /// Orthogonally coupled modes with their images orthogonalised in turn
 /// (Gram–Schmidt with coefficients on the right): `k'_i = k_i − Σ_{j<i} k'_j α_j`,
-/// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal. Sparse: a
-/// mesh of many pieces pays for their supports only.
+/// `α_j = (g'_j* g_i)/|g'_j|²`, so that `g'_i = Q k'_i` are mutually orthogonal. Sparse, but
+/// each `k'_i` takes the supports of the earlier ones: for groups whose images are nearly
+/// dependent, which the Gram form refuses.
 fn orthogonalised<T: Scalar<Real = f64>>(modes: &[&KernelMode<T>]) -> Vec<Restoration<T>> {
-    let mut done: Vec<Restoration<T>> = Vec::new();
+    let mut done: Vec<(SparseVector<T>, SparseVector<T>)> = Vec::new();
     for mode in modes {
         let (mut vector, mut image) = (mode.vector.clone(), mode.image.clone());
         let before = image.norm_squared();
-        for earlier in &done {
+        for (earlier_vector, earlier_image) in &done {
             let alpha =
-                (earlier.image.inner_sparse(&image)).scale(1.0 / earlier.image.norm_squared());
-            vector = vector.minus_times(&earlier.vector, alpha);
-            image = image.minus_times(&earlier.image, alpha);
+                (earlier_image.inner_sparse(&image)).scale(1.0 / earlier_image.norm_squared());
+            vector = vector.minus_times(earlier_vector, alpha);
+            image = image.minus_times(earlier_image, alpha);
         }
         // An image in the span of the earlier ones: `k'` is in `ker P ∩ ker Q`, free, and
         // nothing is restored along it (its constraint is dependent too, and dropped).
         if image.norm_squared() > 1e-16 * before {
-            done.push(Restoration { vector, image });
+            done.push((vector, image));
         }
     }
-    done
+    (done.into_iter())
+        .map(|(vector, image)| Restoration::Orthogonal { vector, image })
+        .collect()
 }
 
 /// `Σ_i |g_i|`.

@@ -324,11 +324,11 @@ fn run<T: Scalar<Real = f64>>(
     }
 }
 
-/// `x ← x + Σ_i k'_i c_i` with `c_i = ⟨g'_i, r⟩ / (λ ⟨g'_i, g'_i⟩)`, `r = P x − λ Q x`: the
-/// components along the orthogonally coupled modes that make `x` satisfy `P x = λ Q x` when it
-/// was solved with them pinned to zero (least squares, exact when the rest is exact; the
-/// images `g'_i` are orthogonal, so one residual serves every mode, `P k'_i = 0` leaving it
-/// unchanged but for `λ g'_i c_i`).
+/// `x ← x + Σ_i k_i c_i`, `c = (GᴴG)⁻¹ Gᴴ r / λ` by group of modes with images `G`,
+/// `r = P x − λ Q x`: the components along the orthogonally coupled modes that make `x`
+/// satisfy `P x = λ Q x` when it was solved with them pinned to zero (least squares, exact
+/// when the rest is exact; the images of different groups are orthogonal, so one residual
+/// serves every group, `P k_i = 0` leaving it unchanged but for `λ G c`).
 fn restore_modes<T: Scalar<Real = f64>>(
     m: &Matrices<T>,
     modes: &[Restoration<T>],
@@ -336,9 +336,19 @@ fn restore_modes<T: Scalar<Real = f64>>(
     x: &mut [T],
 ) {
     let residual = pencil_residual_vector(m, lambda, x);
-    for mode in modes {
-        let c = (mode.image.inner(&residual)).scale(1.0 / (lambda * mode.image.norm_squared()));
-        mode.vector.add_to(x, c);
+    for group in modes {
+        match group {
+            Restoration::Fit { vectors, images } => {
+                let coefficients = images.coefficients(&residual);
+                for (k, c) in vectors.iter().zip(coefficients) {
+                    k.add_to(x, c.scale(1.0 / lambda));
+                }
+            }
+            Restoration::Orthogonal { vector, image } => {
+                let c = (image.inner(&residual)).scale(1.0 / (lambda * image.norm_squared()));
+                vector.add_to(x, c);
+            }
+        }
     }
 }
 
