@@ -219,6 +219,20 @@ fn missing_file_exits_1_naming_it() {
 }
 
 #[test]
+fn a_directory_given_as_a_mesh_exits_1_pointing_to_batch() {
+    let directory = temporary("meshes.obj");
+    fs::create_dir_all(&directory).expect("the temporary directory is writable");
+    let output = dirac(&["spectrum", text(&directory), "--quiet"]);
+    assert_eq!(output.status.code(), Some(1));
+    let message = stderr(&output);
+    assert!(
+        message.contains("is a directory, not a mesh file"),
+        "{message}"
+    );
+    assert!(message.contains("`dirac batch`"), "{message}");
+}
+
+#[test]
 fn malformed_file_exits_1_naming_file_and_line() {
     let path = temporary("malformed.off");
     fs::write(&path, "OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n")

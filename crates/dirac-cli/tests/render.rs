@@ -203,9 +203,11 @@ fn values_spanning_more_than_the_largest_float_are_shaded_like_moderate_ones() {
     assert!(worst <= Some(2), "channels differ by {worst:?}");
 }
 
-/// An icosphere of level 2 (162 vertices) as an OBJ file.
-fn sphere_file() -> PathBuf {
-    let path = temporary("render_icosphere2.obj");
+/// An icosphere of level 2 (162 vertices) as the OBJ file `name`: one per test, since tests
+/// run in parallel and one rewriting a shared file while another's command reads it gave
+/// that command an empty mesh.
+fn sphere_file(name: &str) -> PathBuf {
+    let path = temporary(name);
     write_obj(&icosphere(2), &path).expect("the temporary directory is writable");
     path
 }
@@ -221,7 +223,7 @@ fn render_command(mesh: &str, out: &Path, extra: &[&str]) -> Picture {
 
 #[test]
 fn the_command_renders_one_mode_a_grid_and_the_potential() {
-    let mesh = sphere_file();
+    let mesh = sphere_file("render_cli_icosphere2.obj");
     let cases: [(&str, &[&str], (u32, u32)); 3] = [
         (
             "render_cli_mode.png",
@@ -415,7 +417,7 @@ fn descriptor_pictures_show_the_library_descriptors_at_the_documented_defaults()
 
 #[test]
 fn the_command_reports_bad_modes_sizes_and_files() {
-    let mesh = sphere_file();
+    let mesh = sphere_file("render_errors_icosphere2.obj");
     let mesh = text(&mesh);
     let out = temporary("render_cli_never.png");
     assert_usage_errors(
@@ -479,7 +481,7 @@ fn the_command_reports_bad_modes_sizes_and_files() {
     ]);
     assert_eq!(output.status.code(), Some(1));
     assert!(
-        stderr(&output).contains("render_icosphere2.obj")
+        stderr(&output).contains("render_errors_icosphere2.obj")
             && stderr(&output).contains("two distinct"),
         "{}",
         stderr(&output)

@@ -155,6 +155,9 @@ fn os_error(py: Python<'_>, source: &std::io::Error, message: impl ToString) -> 
 pub fn read_error(py: Python<'_>, error: &ReadError) -> PyErr {
     match error {
         ReadError::Open { source, .. } => os_error(py, source, error),
+        ReadError::Directory { .. } => {
+            os_error(py, &std::io::ErrorKind::IsADirectory.into(), error)
+        }
         ReadError::Mesh { source, .. } => mesh_error(py, Kind::InvalidMesh, source, error),
         _ => plain(py, Kind::MeshFile, error),
     }
@@ -179,8 +182,8 @@ pub fn spectrum_error(py: Python<'_>, error: &SpectrumError) -> PyErr {
             return with_elements(py, Kind::Mesh, error, None, Some(*vertex));
         }
         SpectrumError::Well(well) => return well_error(py, well),
-        SpectrumError::NearlySingular { vertex, .. } => {
-            return with_elements(py, Kind::Singular, error, None, *vertex);
+        SpectrumError::NearlySingular { vertex, sliver, .. } => {
+            return with_elements(py, Kind::Singular, error, *sliver, *vertex);
         }
         SpectrumError::InvalidCount { .. }
         | SpectrumError::InvalidParameter { .. }

@@ -157,6 +157,9 @@ def test_file_errors(tmp_path):
         ds.read_mesh(bad)
     with pytest.raises(ds.MeshFileError, match="unknown mesh format"):
         ds.read_mesh(tmp_path / "mesh.3ds")
+    (tmp_path / "folder.obj").mkdir()
+    with pytest.raises(OSError, match="is a directory, not a mesh file"):
+        ds.read_mesh(tmp_path / "folder.obj")
     V, F = icosphere(0)
     with pytest.raises(ds.MeshFileError, match="cannot write this format"):
         ds.write_mesh(tmp_path / "mesh.stl", V, F)
@@ -181,7 +184,10 @@ def test_option_errors(sphere):
         (dict(flat_tolerance=-1.0), "flat tolerance -1 must be"),
         (dict(tolerance=0.0), "tolerance 0 must lie strictly between 0 and 1"),
         (dict(max_restarts=0), "max_restarts must be at least 1"),
-        (dict(well=ds.PotentialWell(radius=0.3, center=10_000)), "source vertex 10000"),
+        (
+            dict(well=ds.PotentialWell(radius=0.3, center=10_000)),
+            r"centre vertex 10000 does not exist \(the mesh has \d+ vertices\): give one from 0",
+        ),
     ]
     for options, message in cases:
         with pytest.raises(ds.OptionsError, match=message):

@@ -26,6 +26,19 @@ pub enum WellError {
         /// Number of vertices.
         vertex_count: usize,
     },
+    /// The well's centre is not a vertex of the mesh.
+    #[error(
+        "the well's centre vertex {vertex} does not exist (the mesh has {vertex_count} \
+         vertices): give one from 0 to {}, or leave the centre out for the vertex nearest the \
+         area centroid",
+        vertex_count.saturating_sub(1)
+    )]
+    CenterOutOfRange {
+        /// The bad index.
+        vertex: usize,
+        /// Number of vertices.
+        vertex_count: usize,
+    },
     /// A parameter of the well is negative or not a finite number.
     #[error("well parameter {name} = {value} is invalid: it must be a finite number ≥ 0")]
     InvalidParameter {
@@ -167,6 +180,12 @@ impl PotentialWell {
             }
         }
         let center = self.center.unwrap_or_else(|| centroid_vertex(mesh));
+        if center >= mesh.vertex_count() {
+            return Err(WellError::CenterOutOfRange {
+                vertex: center,
+                vertex_count: mesh.vertex_count(),
+            });
+        }
         let distance = geodesic_distance(mesh, &[center])?;
         Ok(distance
             .into_iter()

@@ -936,3 +936,63 @@ fn eigenvalues_at_infinity_are_not_reported_as_converged() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A prism of 256 sides, each cut in two (three collinear corners per side), three rings,
+/// closed by fans from the first corner of each end ring, as CAD exporters write caps: the fan
+/// triangles over a side's three corners are slivers (area ~10⁻¹⁸ against ~10⁻³, valid but
+/// with cotangents of ~10¹⁵), and the factorisation fails at one of their vertices. The error
+/// names the sliver and `--repair`; the repaired mesh is solved.
+#[test]
+fn a_sliver_where_the_operator_is_singular_is_named_with_the_repair() {
+    let (sides, rings) = (256, 3);
+    let around = 2 * sides;
+    let tube = polygonal_tube(sides, 2, rings, false);
+    let (positions, mut faces) = (tube.positions().to_vec(), tube.faces().to_vec());
+    for (ring, upward) in [(0, false), (rings - 1, true)] {
+        let first = ring * around;
+        for i in 1..around - 1 {
+            let fan = [first, first + i, first + i + 1];
+            faces.push(if upward {
+                fan
+            } else {
+                [fan[2], fan[1], fan[0]]
+            });
+        }
+    }
+    let raw = dirac::io::RawMesh { positions, faces };
+    let mesh = raw
+        .clone()
+        .into_mesh()
+        .expect("slivers of nonzero area are valid");
+    let options = SpectrumOptions::new(Operator::RelativeDirac, 10);
+    match spectrum(&mesh, &options) {
+        Err(
+            error @ SpectrumError::NearlySingular {
+                vertex: Some(vertex),
+                sliver: Some(face),
+                ..
+            },
+        ) => {
+            let message = error.to_string();
+            assert!(mesh.faces()[face].contains(&vertex), "{message}");
+            let [p, q, r] = mesh.faces()[face].map(|v| mesh.positions()[v]);
+            let longest = [(p, q), (q, r), (r, p)]
+                .map(|(a, b)| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt())
+                .into_iter()
+                .fold(0.0, f64::max);
+            assert!(
+                mesh.face_area(face) < 1e-12 * longest * longest,
+                "{message}"
+            );
+            assert!(
+                message.contains(&format!("face {face} there is a sliver")),
+                "{message}"
+            );
+            assert!(message.contains("--repair"), "{message}");
+        }
+        other => panic!("expected NearlySingular naming a sliver, got {other:?}"),
+    }
+    let repaired = dirac::repair::repair(raw, &dirac::repair::RepairOptions::default()).unwrap();
+    assert!(repaired.mesh.face_count() < mesh.face_count());
+    assert!(spectrum(&repaired.mesh, &options).is_ok());
+}

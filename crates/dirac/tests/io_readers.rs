@@ -673,6 +673,17 @@ fn read_mesh_names_the_file() {
         read_mesh(dir.join("mesh.3ds")).unwrap_err(),
         ReadError::UnknownFormat { .. }
     ));
+    // A directory, with or without a mesh extension, is named as one.
+    let folder = dir.join("folder.obj");
+    std::fs::create_dir_all(&folder).unwrap();
+    for path in [&dir, &folder] {
+        let err = read_mesh(path).unwrap_err();
+        assert!(matches!(err, ReadError::Directory { .. }), "{err}");
+        assert!(
+            err.to_string().contains("is a directory, not a mesh file"),
+            "{err}"
+        );
+    }
     let path = dir.join("tetrahedron.STL");
     std::fs::write(&path, binary_stl(&TETRAHEDRON, *b"solid but binary")).unwrap();
     assert_eq!(read_mesh(&path).unwrap().face_count(), 4);

@@ -152,6 +152,7 @@ fn a_nearly_developable_mesh_is_not_told_to_raise_the_flat_tolerance() {
             error @ SpectrumError::NearlySingular {
                 vertex: Some(_),
                 flatness: Some(flatness),
+                sliver: None,
                 ..
             },
         ) => {
@@ -240,5 +241,29 @@ fn the_literal_family_returns_when_its_regularization_underflows() {
         .expect("spectrum did not return within 20 s");
     if let Ok(values) = values {
         assert!(values.iter().all(|v| v.is_finite()), "{values:?}");
+    }
+}
+
+/// A well centred on a vertex the mesh does not have is named as the well's centre, with the
+/// range to choose from (it was "source vertex", the heat method's word).
+#[test]
+fn a_well_centre_out_of_range_is_named_as_such() {
+    let mesh = icosphere(1);
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, 4);
+    options.well = Some(PotentialWell {
+        center: Some(42),
+        ..PotentialWell::with_radius(0.3)
+    });
+    match spectrum(&mesh, &options) {
+        Err(
+            error @ SpectrumError::Well(WellError::CenterOutOfRange {
+                vertex: 42,
+                vertex_count: 42,
+            }),
+        ) => {
+            let message = error.to_string();
+            assert!(message.contains("give one from 0 to 41"), "{message}");
+        }
+        other => panic!("{other:?}"),
     }
 }

@@ -250,31 +250,14 @@ mod tests {
         out
     }
 
-    /// Per-component directions (disjoint) and one overlapping two of them: three groups
-    /// collapse to two, and the projection equals the dense one `w − Y (Yᴴ w)` computed from an
-    /// orthonormal basis of the same span.
-    #[test]
-    fn groups_follow_shared_entries_and_project_like_a_dense_basis() {
-        let n = 11;
-        let on = |rows: &[usize], seed: f64| {
-            let mut v = vec![ZERO; n];
-            for (t, &r) in rows.iter().enumerate() {
-                v[r] = quaternion(1.0 + seed + t as f64, seed - 0.5 * t as f64, 0.25, -seed);
-            }
-            v
-        };
-        let vectors = vec![
-            on(&[0, 1, 2], 0.0),
-            on(&[5, 6], 1.0),
-            on(&[8, 9, 10], 2.0),
-            on(&[2, 3, 5], 3.0),
-            on(&[0, 1, 2], 0.0), // dependent: adds nothing
-        ];
+    /// `Constraints::new(vectors)`, after checking that its projection equals the dense one
+    /// `w − Y (Yᴴ w)` computed from an orthonormal basis of the same span, and leaves the
+    /// entries outside every support (4 and 7) untouched.
+    fn projects_like_a_dense_basis(
+        n: usize,
+        vectors: Vec<Vec<Quat<f64>>>,
+    ) -> Constraints<Quat<f64>> {
         let constraints = Constraints::new(n, vectors.iter().map(|v| SparseVector::from_dense(v)));
-        assert_eq!(constraints.groups.len(), 2);
-        assert_eq!(constraints.count(), 4);
-        assert_eq!(constraints.groups[0].rows, vec![0, 1, 2, 3, 5, 6]);
-
         // A dense orthonormal basis of the span, by Gram–Schmidt twice.
         let mut basis: Vec<Vec<Quat<f64>>> = Vec::new();
         for mut v in vectors {
@@ -290,7 +273,7 @@ mod tests {
                 basis.push(v);
             }
         }
-        assert_eq!(basis.len(), 4);
+        assert_eq!(constraints.count(), basis.len());
         let w: Vec<Quat<f64>> = (0..n)
             .map(|i| quaternion(i as f64, 1.0, -(i as f64) * 0.5, 2.0))
             .collect();
@@ -311,5 +294,44 @@ mod tests {
             "an entry outside every support is untouched"
         );
         assert_eq!(ordinary[7], w[7]);
+        constraints
+    }
+
+    /// Directions with entries on `rows`, values from `seed`.
+    fn on(n: usize, rows: &[usize], seed: f64) -> Vec<Quat<f64>> {
+        let mut v = vec![ZERO; n];
+        for (t, &r) in rows.iter().enumerate() {
+            v[r] = quaternion(1.0 + seed + t as f64, seed - 0.5 * t as f64, 0.25, -seed);
+        }
+        v
+    }
+
+    /// Per-component directions (disjoint) and one overlapping two of them: three groups
+    /// collapse to two. Independent directions keep the Gram form; with a dependent one
+    /// added, the group is orthonormalised and the dependent direction adds nothing.
+    #[test]
+    fn groups_follow_shared_entries_and_project_like_a_dense_basis() {
+        let n = 11;
+        let mut vectors = vec![
+            on(n, &[0, 1, 2], 0.0),
+            on(n, &[5, 6], 1.0),
+            on(n, &[8, 9, 10], 2.0),
+            on(n, &[2, 3, 5], 3.0),
+        ];
+        let constraints = projects_like_a_dense_basis(n, vectors.clone());
+        assert_eq!(constraints.groups.len(), 2);
+        assert_eq!(constraints.groups[0].rows, vec![0, 1, 2, 3, 5, 6]);
+        assert!(matches!(
+            constraints.groups[0].projector,
+            Projector::Gram(_)
+        ));
+
+        vectors.push(on(n, &[0, 1, 2], 0.0)); // dependent: adds nothing
+        let constraints = projects_like_a_dense_basis(n, vectors);
+        assert_eq!((constraints.groups.len(), constraints.count()), (2, 4));
+        assert!(matches!(
+            constraints.groups[0].projector,
+            Projector::Orthonormal(_)
+        ));
     }
 }

@@ -235,10 +235,11 @@ pub enum CliError {
 }
 
 /// What follows the message of a mesh that cannot be read: for an invalid mesh (not for an
-/// unreadable file), that `--repair` exists.
+/// unreadable file), that `--repair` exists; for a directory, that `dirac batch` reads one.
 pub fn mesh_error_hint(error: &ReadError) -> &'static str {
     match error {
         ReadError::Mesh { .. } => "; --repair fixes such defects (see `dirac repair --help`)",
+        ReadError::Directory { .. } => "; `dirac batch` computes every mesh of a directory",
         _ => "",
     }
 }

@@ -32,7 +32,8 @@ class                  builtin base                raised when
                                                    surface with triangles that are segments of
                                                    three distinct points)
 ``SingularError``      ``ArithmeticError``         a matrix is numerically singular (``vertex``
-                                                   where the factorisation failed, if known)
+                                                   where the factorisation failed, if known;
+                                                   ``face`` a sliver there, if one is the cause)
 ``SolverError``        ``RuntimeError``            the eigensolver failed
 ``NotConvergedError``  ``SolverError``             the eigensolver stopped before all k pairs
                                                    converged: ``partial`` is a ``Spectrum`` of the
@@ -92,9 +93,12 @@ class KernelError(DiracError, ValueError):
 
 
 class SingularError(DiracError, ArithmeticError):
-    """A matrix is numerically singular; ``vertex`` is where it failed, if known."""
+    """A matrix is numerically singular; ``vertex`` is where it failed, if known, and ``face`` a
+    sliver around it (height at most 10⁻⁹ of the mesh's size), if one is the likely cause:
+    ``repair`` removes such faces."""
 
     vertex: int | None = None
+    face: int | None = None
 
 
 class SolverError(DiracError, RuntimeError):

@@ -304,6 +304,15 @@ pub enum ReadError {
         /// The I/O error.
         source: io::Error,
     },
+    /// The path is a directory.
+    #[error(
+        "{}: is a directory, not a mesh file: name a .obj, .off, .ply or .stl file in it",
+        path.display()
+    )]
+    Directory {
+        /// The directory.
+        path: PathBuf,
+    },
     /// The extension is not `.obj`, `.off`, `.ply` or `.stl` (any case).
     #[error("{}: unknown mesh format (expected a .obj, .off, .ply or .stl file)", path.display())]
     UnknownFormat {
@@ -435,8 +444,13 @@ pub fn parse_mesh(path: &Path, bytes: &[u8]) -> Result<TriMesh, ReadError> {
     parse_raw(path, bytes)?.into_mesh_of(path)
 }
 
-/// The bytes of `path`; an unknown extension fails before the file is read.
+/// The bytes of `path`; a directory or an unknown extension fails before anything is read.
 fn read_bytes(path: &Path) -> Result<Vec<u8>, ReadError> {
+    if path.is_dir() {
+        return Err(ReadError::Directory {
+            path: path.to_path_buf(),
+        });
+    }
     if Format::from_path(path).is_none() {
         return Err(ReadError::UnknownFormat {
             path: path.to_path_buf(),

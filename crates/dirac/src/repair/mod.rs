@@ -130,6 +130,19 @@ fn collapses(p: [[f64; 3]; 3], tolerance: f64) -> bool {
     tolerance > 0.0 && 2.0 * triangle_area(p[0], p[1], p[2]) <= tolerance * longest
 }
 
+/// The first face around `vertex` that [`repair`] with the default options drops as a sliver
+/// (step 4: height at most [`DEFAULT_MERGE_DISTANCE`] times the bounding box's diagonal), if
+/// any: a valid mesh may hold such faces (their area is not zero), and where an operator is
+/// numerically singular they are the likely cause.
+pub(crate) fn sliver_around(mesh: &TriMesh, vertex: usize) -> Option<usize> {
+    let used = vec![true; mesh.vertex_count()];
+    let tolerance = merge::tolerance(mesh.positions(), &used, DEFAULT_MERGE_DISTANCE);
+    (mesh.faces().iter().enumerate())
+        .filter(|(_, face)| face.contains(&vertex))
+        .find(|(_, face)| collapses(face.map(|v| mesh.positions()[v]), tolerance))
+        .map(|(t, _)| t)
+}
+
 /// Repairs `raw` into a valid [`TriMesh`] (see the [module documentation](self) for the
 /// steps). Never panics; each step is reported in [`Repaired::report`].
 pub fn repair(raw: RawMesh, options: &RepairOptions) -> Result<Repaired, RepairError> {

@@ -854,10 +854,14 @@ pub enum SpectrumError {
     /// vanishes somewhere without vanishing exactly (almost but not exactly flat faces), so its
     /// smallest eigenvalues there are below what double precision resolves against the rest
     /// of the mesh.
-    #[error("{}", nearly_singular_message(*.vertex, *.flatness, *.flat_tolerance))]
+    #[error("{}", nearly_singular_message(*.vertex, *.flatness, *.flat_tolerance, *.sliver))]
     NearlySingular {
         /// Where the factorisation failed (native backend), original numbering.
         vertex: Option<usize>,
+        /// A face around that vertex whose height is at most `10⁻⁹` of the mesh's size (a
+        /// sliver, its corners collinear to rounding), which `--repair` removes: the likely
+        /// cause.
+        sliver: Option<usize>,
         /// The flatness `|N_a − N_b| √area / |f_a − f_b|` of the faces around it (relative
         /// Dirac), which the flat tolerance bounds: the largest of the nearly flat ones (at most
         /// `10⁻²`), or the smallest when all are more curved.
@@ -938,8 +942,21 @@ fn at_infinity_note(at_infinity: usize, converged: usize) -> String {
 }
 
 /// The message of [`SpectrumError::NearlySingular`].
-fn nearly_singular_message(vertex: Option<usize>, flatness: Option<f64>, tolerance: f64) -> String {
+fn nearly_singular_message(
+    vertex: Option<usize>,
+    flatness: Option<f64>,
+    tolerance: f64,
+    sliver: Option<usize>,
+) -> String {
     let place = vertex.map_or(String::new(), |v| format!(" near vertex {v}"));
+    if let Some(face) = sliver {
+        return format!(
+            "the operator is numerically singular{place}: face {face} there is a sliver (its \
+             height is at most 10⁻⁹ of the mesh's size, its corners collinear to rounding), \
+             whose cotangent weights are beyond what double precision resolves; remove such \
+             faces with --repair"
+        );
+    }
     let how = flatness.map_or(String::new(), |s| {
         if s > NEARLY_FLAT {
             format!(
@@ -1318,6 +1335,7 @@ fn singular_error<T>(
         SolveError::Other(e) => e,
         SolveError::Singular(vertex) => SpectrumError::NearlySingular {
             vertex,
+            sliver: vertex.and_then(|v| crate::repair::sliver_around(mesh, v)),
             flatness: vertex
                 .zip(spec.normals.as_ref())
                 .map(|(v, normals)| flatness_around(mesh, normals, v)),
