@@ -164,7 +164,8 @@ impl<V: Scalar<Real = f64>> Constraints<V> {
 }
 
 /// The members, in order, over the union of their supports, with the projector of their span:
-/// the Gram form where it is accurate, else an orthonormal basis; `None` if nothing is left.
+/// the Gram form for several members where it is accurate, else an orthonormal basis; `None`
+/// if nothing is left.
 fn group<'a, V: Scalar<Real = f64>>(
     members: impl Iterator<Item = &'a SparseVector<V>> + Clone,
 ) -> Option<Group<V>> {
@@ -195,7 +196,10 @@ fn group<'a, V: Scalar<Real = f64>>(
             }
         })
         .collect();
-    let projector = match Gram::new(&local) {
+    // One direction is its own orthonormal basis, projected by the vectorised dense kernels
+    // (the constant of a mesh in one piece: the common case, unchanged).
+    let gram = (local.len() > 1).then(|| Gram::new(&local)).flatten();
+    let projector = match gram {
         Some(gram) => Projector::Gram(gram),
         None => orthonormal(&local, rows.len()),
     };

@@ -303,8 +303,9 @@ fn restorations<T: Scalar<Real = f64>>(modes: &[KernelMode<T>], n: usize) -> Vec
         .iter()
         .filter(|group| !group.is_empty())
         .flat_map(|group| {
+            // One mode needs no fit: its own coefficient (the common case, unchanged).
             let images: Vec<SparseVector<T>> = group.iter().map(|m| m.image.clone()).collect();
-            match Gram::new(&images) {
+            match (group.len() > 1).then(|| Gram::new(&images)).flatten() {
                 Some(images) => vec![Restoration::Fit {
                     vectors: group.iter().map(|m| m.vector.clone()).collect(),
                     images,
