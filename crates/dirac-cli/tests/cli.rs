@@ -232,6 +232,44 @@ fn a_directory_given_as_a_mesh_exits_1_pointing_to_batch() {
     assert!(message.contains("`dirac batch`"), "{message}");
 }
 
+/// A square with a flap glued to one edge whose apex is `1e-12` off it: a valid mesh with one
+/// sliver face (height `1e-12` against a diagonal of `√2`). The spectrum is computed, with a
+/// warning that names the face and `--repair`, and the JSON report counts it.
+#[test]
+fn a_sliver_is_warned_of_and_counted() {
+    let path = temporary("flap.obj");
+    fs::write(
+        &path,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 -1e-12 0\nf 1 2 3\nf 1 3 4\nf 2 1 5\n",
+    )
+    .expect("the temporary directory is writable");
+    let laplace = |extra: &str| {
+        dirac(&[
+            "spectrum",
+            text(&path),
+            "--operator",
+            "laplace",
+            "-k",
+            "2",
+            extra,
+        ])
+    };
+    let output = laplace("--json");
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let message = stderr(&output);
+    assert!(
+        message.contains("warning: ") && message.contains("1 sliver face (face 2)"),
+        "{message}"
+    );
+    assert!(message.contains("--repair"), "{message}");
+    let slivers = &json(&output)["preparation"]["slivers"];
+    assert_eq!(slivers["count"], 1);
+    assert_eq!(slivers["examples"][0], 2);
+    // Repaired, the flap is gone and so is the warning.
+    let output = laplace("--repair");
+    assert!(!stderr(&output).contains("sliver"), "{}", stderr(&output));
+}
+
 #[test]
 fn malformed_file_exits_1_naming_file_and_line() {
     let path = temporary("malformed.off");

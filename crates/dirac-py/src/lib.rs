@@ -15,7 +15,7 @@ use std::path::PathBuf;
 use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, read_raw, write_obj, write_ply};
-use dirac::repair::{DEFAULT_MERGE_DISTANCE, RepairOptions};
+use dirac::repair::{DEFAULT_MERGE_DISTANCE, RepairOptions, sliver_warning, slivers};
 use dirac::spectrum::{
     DEFAULT_FLAT_TOLERANCE, relative_spectrum_with_progress, spectrum_with_progress,
 };
@@ -358,14 +358,21 @@ fn spectrum<'py>(
         None => spectrum_with_progress(&mesh, &options, Some(report)),
     })?;
     match result {
-        Ok(spectrum) => convert::spectrum_dict(py, &spectrum, eigenvectors),
+        Ok(spectrum) => {
+            let dict = convert::spectrum_dict(py, &spectrum, eigenvectors)?;
+            let slivers = slivers(&mesh);
+            let warning = (slivers.first()).map(|&first| sliver_warning(slivers.len(), first));
+            dict.set_item("sliver_warning", warning)?;
+            Ok(dict)
+        }
         Err(SpectrumError::NotConverged {
             wanted,
             partial,
-            at_infinity,
+            unaccepted,
         }) => {
             let details = PyDict::new(py);
             details.set_item("wanted", wanted)?;
+            details.set_item("accepting_tolerance", unaccepted.accepting_tolerance())?;
             details.set_item(
                 "partial",
                 convert::spectrum_dict(py, &partial, eigenvectors)?,
@@ -373,7 +380,7 @@ fn spectrum<'py>(
             let message = SpectrumError::NotConverged {
                 wanted,
                 partial,
-                at_infinity,
+                unaccepted,
             };
             Err(raise(Kind::NotConverged, message, &details))
         }

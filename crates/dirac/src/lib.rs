@@ -55,8 +55,8 @@ pub use io::default_mesh;
 pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
-    SecondSurface, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, eigenproblem,
-    relative_spectrum, spectrum,
+    SecondSurface, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
+    eigenproblem, relative_spectrum, spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,

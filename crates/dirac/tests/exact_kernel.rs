@@ -10,7 +10,7 @@ use dirac::geometry::barycentric_masses;
 use dirac::operators::{DiracPencil, extrinsic_dirac, normal_dirac};
 use dirac::phase::mass_inner;
 use dirac::spectrum::{
-    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions,
+    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
     relative_spectrum, spectrum,
 };
 use qeig::dense::hermitian_eigen;
@@ -926,7 +926,9 @@ fn eigenvalues_at_infinity_are_not_reported_as_converged() {
         dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
     assert!(reference.iter().all(|l| l.abs() > 1e12), "{reference:?}");
     match relative_dirac(&mesh, 4) {
-        Err(error @ SpectrumError::NotConverged { at_infinity: 4, .. }) => {
+        Err(error @ SpectrumError::NotConverged { unaccepted, .. })
+            if unaccepted.at_infinity == 4 =>
+        {
             let SpectrumError::NotConverged { partial, .. } = &error else {
                 unreachable!()
             };
@@ -935,6 +937,81 @@ fn eigenvalues_at_infinity_are_not_reported_as_converged() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// An open pipe of 512 flat sides, one triangle pair each, two rings (a man-made cylinder
+/// finely faceted): the smallest pairs of its relative Dirac operator, `±6.6933e-5` (each
+/// quaternionic eigenvalue twice, as dense LAPACK on the same pencil finds them: `±6.69332e-5`,
+/// `±6.69355e-5`), come out of the Lanczos at its rounding level, but in the operator's own
+/// problem their relative residual (~2·10⁻⁸) is above what the default tolerance accepts and
+/// their backward error (~3·10⁻¹³) just above the floor; refinement brings three of the four
+/// under it (this host). The one left is not listed, and the error must say that a pair below
+/// the listed ones was found, and which tolerance accepts it; at that tolerance all four lead
+/// the list.
+#[test]
+fn pairs_found_below_the_converged_ones_are_named_with_the_tolerance_that_accepts_them() {
+    let mesh = polygonal_tube(512, 1, 2, false);
+    let error = match relative_dirac(&mesh, 10) {
+        // Another host's rounding can bring them under the floor: then nothing is missing.
+        Ok(all) => {
+            assert!(
+                (all.eigenvalues[0].abs() - 6.6933e-5).abs() < 1e-8,
+                "{all:?}"
+            );
+            return;
+        }
+        Err(error) => error,
+    };
+    let SpectrumError::NotConverged {
+        partial,
+        unaccepted,
+        ..
+    } = &error
+    else {
+        panic!("{error}")
+    };
+    let smallest = unaccepted.smallest_inaccurate.expect("inaccurate pairs");
+    assert!((smallest - 6.6933e-5).abs() < 1e-8, "{unaccepted:?}");
+    assert!(partial.eigenvalues.len() < 10, "{:?}", partial.eigenvalues);
+    let message = error.to_string();
+    assert!(message.contains("below some of those listed"), "{message}");
+    let tolerance = unaccepted
+        .accepting_tolerance()
+        .expect("a tolerance that accepts them");
+    assert!(
+        message.contains(&format!("--tolerance {tolerance:.0e}")),
+        "{message}"
+    );
+    let mut options = SpectrumOptions::new(Operator::RelativeDirac, 10);
+    options.tolerance = tolerance;
+    let accepted = spectrum(&mesh, &options).unwrap();
+    for (i, &lambda) in accepted.eigenvalues.iter().take(4).enumerate() {
+        assert!(
+            (lambda.abs() - 6.6934e-5).abs() < 2e-9,
+            "{i}: {:?}",
+            accepted.eigenvalues
+        );
+    }
+}
+
+/// The tolerance that accepts pairs short of the one asked for: their largest relative
+/// residual over the factor of the convergence test, rounded up to one digit; none for pairs
+/// that are not nearly converged.
+#[test]
+fn the_accepting_tolerance_is_the_largest_residual_rounded_up() {
+    let unaccepted = |largest_residual| Unaccepted {
+        at_infinity: 0,
+        inaccurate: 2,
+        smallest_inaccurate: Some(1.0),
+        largest_residual,
+    };
+    let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-12 * b);
+    assert!(close(unaccepted(1.82e-8).accepting_tolerance(), 2e-10));
+    assert!(close(unaccepted(3e-9).accepting_tolerance(), 3e-11));
+    assert!(close(unaccepted(9.5e-5).accepting_tolerance(), 1e-6));
+    assert_eq!(unaccepted(2e-4).accepting_tolerance(), None);
+    assert_eq!(Unaccepted::default().accepting_tolerance(), None);
+    assert_eq!(Unaccepted::default().explanation(&[1.0]), None);
 }
 
 /// A prism of 256 sides, each cut in two (three collinear corners per side), three rings,

@@ -4,7 +4,8 @@
 //! element, never a panic.
 
 use dirac::io::{
-    ParseError, ReadError, read_mesh, read_obj_from, read_off_from, read_ply_from, read_stl_from,
+    ParseError, RawMesh, ReadError, read_mesh, read_obj_from, read_off_from, read_ply_from,
+    read_stl_from,
 };
 use dirac::{MeshError, TriMesh};
 
@@ -124,13 +125,46 @@ fn obj_malformed_inputs_name_the_line() {
             ..
         }
     ));
-    // Invalid UTF-8.
+    // A byte that is not UTF-8 where a number belongs.
     let mut bytes = head.as_bytes().to_vec();
     bytes.extend_from_slice(b"v \xff 0 0\n");
     assert!(matches!(
         read_obj_from(&bytes[..]).unwrap_err(),
-        ParseError::Io { line: Some(4), .. }
+        ParseError::BadNumber { line: 4, ref token, .. } if token == "\u{fffd}"
     ));
+}
+
+/// Names and comments in Latin-1 (`Cr\xe9\xe9` for "Créé"), as downloaded files write them, are
+/// ignored as any name is: OBJ, OFF, ASCII STL and PLY files read as their UTF-8 twins.
+#[test]
+fn names_and_comments_that_are_not_utf8_are_ignored() {
+    let latin1 = |text: &str| -> Vec<u8> {
+        text.chars()
+            .map(|c| u8::try_from(u32::from(c)).expect("Latin-1"))
+            .collect()
+    };
+    let obj_text =
+        "# Créé par l'exportateur\no pièce\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 # façade\n";
+    let off_text = "OFF # créé\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 # façade\n";
+    let stl_text = "solid pièce\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                    vertex 0 1 0\nendloop\nendfacet\nendsolid pièce\n";
+    let ply_text = "ply\nformat ascii 1.0\ncomment créé\nobj_info pièce\nelement vertex 3\n\
+                    property float x\nproperty float y\nproperty float z\nelement face 1\n\
+                    property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n\
+                    3 0 1 2\n";
+    type Reader = fn(&[u8]) -> Result<RawMesh, ParseError>;
+    let readers: [(&str, Reader, &str); 4] = [
+        ("obj", |bytes| read_obj_from(bytes), obj_text),
+        ("off", |bytes| read_off_from(bytes), off_text),
+        ("stl", read_stl_from, stl_text),
+        ("ply", |bytes| read_ply_from(bytes), ply_text),
+    ];
+    for (name, read, text) in readers {
+        let utf8 = read(text.as_bytes()).unwrap();
+        let other = read(&latin1(text)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(other.positions, utf8.positions, "{name}");
+        assert_eq!(other.faces, vec![[0, 1, 2]], "{name}");
+    }
 }
 
 #[test]

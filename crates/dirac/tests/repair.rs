@@ -5,7 +5,7 @@
 
 use dirac::generators::{Torus, grid, icosphere};
 use dirac::io::RawMesh;
-use dirac::repair::{Change, RepairError, RepairOptions, Repaired, repair};
+use dirac::repair::{Change, RepairError, RepairOptions, Repaired, repair, slivers};
 use dirac::spectrum::{Operator, SpectrumOptions, spectrum};
 use dirac::{ComponentError, ComponentSelection, MeshError, TriMesh};
 use proptest::prelude::*;
@@ -203,6 +203,28 @@ fn sliver_within_the_merge_tolerance_is_removed() {
     let repaired = fixed(input);
     assert!(repaired.report.is_empty(), "{}", repaired.report);
     assert_eq!(repaired.mesh.face_count(), 3);
+}
+
+/// The slivers a valid mesh holds are the faces the repair drops as such: the height of each
+/// from its coordinates against the tolerance `1e-9` times the bounding box's diagonal.
+#[test]
+fn slivers_are_the_faces_the_repair_drops_as_such() {
+    for (height, expected) in [(1e-12, vec![2]), (1e-6, vec![])] {
+        let input = square_with(&[[0.5, -height, 0.0]], &[[1, 0, 4]]);
+        let mesh = TriMesh::new(input.positions.clone(), input.faces.clone()).unwrap();
+        let diagonal = (1.0f64 + (1.0 + height) * (1.0 + height)).sqrt();
+        // Face 2 has its longest edge 0–1 of length 1: its height is `2 · area`.
+        assert_eq!(height <= 1e-9 * diagonal, !expected.is_empty());
+        assert_eq!(slivers(&mesh), expected);
+        assert_eq!(
+            repair(input, &RepairOptions::default())
+                .unwrap()
+                .report
+                .removed_faces_zero_area
+                .examples,
+            expected
+        );
+    }
 }
 
 #[test]

@@ -22,7 +22,8 @@
 use qscalar::Scalar;
 use qsparse::{DisjointSets, Gram, SparseVector, vector};
 
-/// Orthonormal directions, grouped by disjoint supports.
+/// Constraint directions grouped by disjoint supports, each group with the projection onto the
+/// complement of its span.
 #[derive(Debug, Default)]
 pub(crate) struct Constraints<V> {
     groups: Vec<Group<V>>,

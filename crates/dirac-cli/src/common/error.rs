@@ -126,8 +126,8 @@ pub enum CliError {
     /// The eigensolver stopped before all wanted pairs converged (exit code 3); what did
     /// converge has been printed or written as `doing` says.
     #[error(
-        "{mesh}: the eigensolver converged only {converged} of {wanted} eigenpairs; {doing} ({})",
-        not_converged_advice(*.at_infinity, *.converged)
+        "{mesh}: the eigensolver converged only {converged} of {wanted} eigenpairs; {doing} \
+         ({advice})"
     )]
     NotConverged {
         /// The mesh.
@@ -138,8 +138,9 @@ pub enum CliError {
         wanted: usize,
         /// What was done with the converged pairs (`printing those`, `nothing drawn`).
         doing: String,
-        /// Pairs found whose eigenvalue is at infinity: then there is nothing more to find.
-        at_infinity: usize,
+        /// What to do: what the pairs found but not accepted tell
+        /// ([`dirac::Unaccepted::explanation`]), or the general advice.
+        advice: String,
     },
     /// A `.seg` file cannot be read, is malformed or does not fit the mesh (the message names
     /// the mesh, the `.seg` file and, for a mismatch, both numbers).
@@ -261,21 +262,5 @@ impl CliError {
             CliError::Interrupted { .. } => INTERRUPTED,
             _ => FAILED,
         }
-    }
-}
-
-/// The advice of [`CliError::NotConverged`]: pairs at infinity mean there are no more finite
-/// eigenvalues to find, which neither a tolerance nor restarts change.
-fn not_converged_advice(at_infinity: usize, converged: usize) -> String {
-    match at_infinity {
-        0 => "try a larger --tolerance, more --max-restarts or another --seed".to_string(),
-        count => format!(
-            "{count} other pair{} found {} at infinity: the operator has only {converged} \
-             finite nonzero eigenvalue{} outside its kernel; ask for fewer, or use --operator \
-             family:T (0 < T < 1)",
-            if count == 1 { "" } else { "s" },
-            if count == 1 { "is" } else { "are" },
-            if converged == 1 { "" } else { "s" },
-        ),
     }
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 use clap::Args;
 use clap::error::ErrorKind;
 use dirac::io::{RawMesh, read_raw};
-use dirac::repair::{RepairOptions, RepairReport, repair};
+use dirac::repair::{Change, RepairOptions, RepairReport, repair, sliver_warning, slivers};
 use dirac::{ComponentSelection, Topology, TriMesh, default_mesh};
 use serde::{Serialize, Serializer};
 
@@ -70,6 +70,9 @@ pub struct PreparationReport {
     /// The `--component` value (written as on the command line).
     #[serde(serialize_with = "as_text")]
     pub component: ComponentSelection,
+    /// The faces of the mesh used that `--repair` would drop as slivers
+    /// ([`dirac::repair::slivers`]; numbered as in that mesh).
+    pub slivers: Change<usize>,
 }
 
 /// Serialises `value` as its `Display` text.
@@ -157,6 +160,7 @@ impl MeshPreparation {
                 (selected, topology)
             }
         };
+        let slivers = Change::of(slivers(&mesh));
         Ok(PreparedMesh {
             mesh,
             name,
@@ -165,6 +169,7 @@ impl MeshPreparation {
                 repair: repair_report,
                 components,
                 component: self.options.component,
+                slivers,
             },
         })
     }
@@ -172,9 +177,13 @@ impl MeshPreparation {
 
 impl PreparedMesh {
     /// Notes on stderr: every repair, the component kept, a mesh that looks like a triangle
-    /// soup.
+    /// soup, slivers.
     pub fn print_notes(&self) {
         let name = &self.name;
+        let slivers = &self.report.slivers;
+        if let Some(&first) = slivers.examples.first() {
+            eprintln!("warning: {name}: {}", sliver_warning(slivers.count, first));
+        }
         if let Some(report) = &self.report.repair {
             if report.is_empty() {
                 eprintln!("note: {name}: --repair changed nothing");

@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use dirac::TriMesh;
 use dirac::spectrum::{
-    Spectrum, SpectrumError, SpectrumOptions, relative_spectrum_with_progress,
+    Spectrum, SpectrumError, SpectrumOptions, Unaccepted, relative_spectrum_with_progress,
     spectrum_with_progress,
 };
 use qeig::Progress;
@@ -19,8 +19,8 @@ pub struct Solved {
     pub spectrum: Spectrum,
     /// Whether all `k` converged.
     pub converged: bool,
-    /// Pairs found whose eigenvalue is at infinity (none when all converged).
-    pub at_infinity: usize,
+    /// The pairs found but not accepted (none when all converged).
+    pub unaccepted: Unaccepted,
     /// Assembly and eigensolve together.
     pub elapsed: Duration,
 }
@@ -38,7 +38,11 @@ impl Solved {
             converged: self.spectrum.eigenvalues.len(),
             wanted,
             doing: doing.to_string(),
-            at_infinity: self.at_infinity,
+            advice: (self.unaccepted)
+                .explanation(&self.spectrum.eigenvalues)
+                .unwrap_or_else(|| {
+                    "try a larger --tolerance, more --max-restarts or another --seed".to_string()
+                }),
         })
     }
 }
@@ -88,17 +92,17 @@ pub fn solve_until(
         Ok(spectrum) => Ok(Solved {
             spectrum,
             converged: true,
-            at_infinity: 0,
+            unaccepted: Unaccepted::default(),
             elapsed,
         }),
         Err(SpectrumError::NotConverged {
             partial,
-            at_infinity,
+            unaccepted,
             ..
         }) => Ok(Solved {
             spectrum: *partial,
             converged: false,
-            at_infinity,
+            unaccepted,
             elapsed,
         }),
         Err(source) => Err(CliError::Spectrum {

@@ -35,6 +35,7 @@ from .errors import (
     NotConvergedError,
     OptionsError,
     SingularError,
+    SliverWarning,
     SolverError,
 )
 
@@ -57,6 +58,7 @@ __all__ = [
     "PotentialWell",
     "Repaired",
     "SingularError",
+    "SliverWarning",
     "SolverError",
     "Spectrum",
     "default_mesh",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Literal, NamedTuple
 
@@ -10,7 +11,7 @@ import numpy.typing as npt
 import scipy.sparse
 
 from . import _arrays, _native
-from .errors import OptionsError, translated
+from .errors import OptionsError, SliverWarning, _python_spelling, translated
 
 #: The operator names ``spectrum`` and ``operator_matrices`` accept.
 OPERATORS: tuple[str, ...] = tuple(_native.OPERATORS)
@@ -260,7 +261,10 @@ def spectrum(
             vertices, faces, request, bool(eigenvectors), progress, reference
         )
 
-    return _spectrum(solve(), request)
+    raw = solve()
+    if raw["sliver_warning"] is not None:
+        warnings.warn(_python_spelling(raw["sliver_warning"]), SliverWarning, stacklevel=2)
+    return _spectrum(raw, request)
 
 
 class OperatorMatrices(NamedTuple):

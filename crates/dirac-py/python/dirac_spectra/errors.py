@@ -37,11 +37,17 @@ class                  builtin base                raised when
 ``SolverError``        ``RuntimeError``            the eigensolver failed
 ``NotConvergedError``  ``SolverError``             the eigensolver stopped before all k pairs
                                                    converged: ``partial`` is a ``Spectrum`` of the
-                                                   converged pairs, ``wanted`` the k asked for
+                                                   converged pairs, ``wanted`` the k asked for,
+                                                   ``accepting_tolerance`` a tolerance that
+                                                   accepts pairs found short of it (or None)
 ``DescriptorError``    ``ValueError``              a descriptor cannot be computed from the given
                                                    eigenpairs (no nonzero eigenvalue, negative
                                                    eigenvalue for HKS, bad times or energies)
 =====================  ==========================  ==============================================
+
+``spectrum`` warns with ``SliverWarning`` (a ``UserWarning``) when the mesh has sliver faces:
+their height is at most 10⁻⁹ of the mesh's size, so their cotangent weights dominate every
+operator; the computation goes on, and ``repair`` removes them.
 
 Files that cannot be opened or written raise the builtin ``OSError`` (``FileNotFoundError``
 and so on). Bad array arguments raise ``TypeError`` (wrong dtype) or ``ValueError`` (wrong
@@ -66,6 +72,7 @@ __all__ = [
     "SolverError",
     "NotConvergedError",
     "DescriptorError",
+    "SliverWarning",
 ]
 
 
@@ -109,15 +116,25 @@ class NotConvergedError(SolverError):
     """The eigensolver stopped before all pairs converged.
 
     ``partial`` is a :class:`dirac_spectra.Spectrum` holding the pairs that did converge (sorted
-    by ``|λ|``, with their residuals); ``wanted`` is the number asked for.
+    by ``|λ|``, with their residuals); ``wanted`` is the number asked for. When the solver
+    found other pairs accurate to a tolerance up to 10⁻⁶ but not to the one asked for (the
+    message says which ``|λ|`` and whether they lie below some of ``partial``'s),
+    ``accepting_tolerance`` is the tolerance that accepts them, otherwise None.
     """
 
     partial: Any = None
     wanted: int = 0
+    accepting_tolerance: float | None = None
 
 
 class DescriptorError(DiracError, ValueError):
     """A descriptor cannot be computed from the given eigenpairs."""
+
+
+class SliverWarning(UserWarning):
+    """The mesh has sliver faces (height at most 10⁻⁹ of its size, as CAD exporters write fans
+    over collinear corners): a valid mesh, but their cotangent weights dominate every operator
+    and can spoil its spectrum. ``dirac_spectra.repair(V, F)`` removes them."""
 
 
 _CLASSES: dict[str, type[Exception]] = {
@@ -137,6 +154,7 @@ _CLASSES: dict[str, type[Exception]] = {
 _OPTION_SPELLING = [
     ("--include-kernel", "include_kernel=True"),
     ("--flat-tolerance ", "flat_tolerance="),
+    ("--tolerance ", "tolerance="),
     ("--operator family:T", 'operator="family", tau=T'),
     ("--operator laplace", 'operator="laplace"'),
     ("with --repair", "with dirac_spectra.repair(V, F) (or read_mesh(path, repair=True))"),

@@ -7,9 +7,12 @@
 //! [`TriMesh::new`]. No input makes a reader panic. [`read_mesh`] does both steps for a file
 //! chosen by extension.
 //!
-//! OBJ, OFF and ASCII STL files are read line by line: a line ends at `\n` or `\r\n` and must
-//! be UTF-8 (a byte-order mark at the start of the file is skipped), `#` starts a comment to the
-//! end of the line, and tokens are separated by ASCII whitespace (spaces and tabs).
+//! OBJ, OFF and ASCII STL files are read line by line: a line ends at `\n` or `\r\n` (a
+//! byte-order mark at the start of the file is skipped), `#` starts a comment to the end of the
+//! line, and tokens are separated by ASCII whitespace (spaces and tabs). Bytes that are not
+//! UTF-8 read as `U+FFFD`: the names and comments downloaded files write in Latin-1 or other
+//! encodings are ignored as any name is, and such a byte where a number belongs is a
+//! [`ParseError::BadNumber`].
 
 mod obj;
 mod off;
@@ -226,18 +229,22 @@ impl<R: BufRead> Lines<R> {
         }
     }
 
-    /// Reads the next line; `false` at the end of the input. Text that is not UTF-8 is a
-    /// [`ParseError::Io`] naming the line.
+    /// Reads the next line; `false` at the end of the input. Bytes that are not UTF-8 become
+    /// `U+FFFD` (module documentation).
     fn advance(&mut self) -> Result<bool, ParseError> {
-        self.buffer.clear();
+        // The buffer's allocation serves every line: moved to bytes and back, not copied.
+        let mut bytes = std::mem::take(&mut self.buffer).into_bytes();
+        bytes.clear();
         let line = self.line + 1;
-        let read = self
-            .reader
-            .read_line(&mut self.buffer)
-            .map_err(|source| ParseError::Io {
+        let read =
+            (self.reader.read_until(b'\n', &mut bytes)).map_err(|source| ParseError::Io {
                 line: Some(line),
                 source,
             })?;
+        self.buffer = match String::from_utf8(bytes) {
+            Ok(text) => text,
+            Err(error) => String::from_utf8_lossy(error.as_bytes()).into_owned(),
+        };
         if read == 0 {
             return Ok(false);
         }

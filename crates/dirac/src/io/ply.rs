@@ -34,6 +34,7 @@ pub fn read_ply_from(mut reader: impl Read) -> Result<RawMesh, ParseError> {
     reader
         .read_to_end(&mut bytes)
         .map_err(|source| ParseError::Io { line: None, source })?;
+    replace_non_ascii_in_header(&mut bytes);
     let ply_error = |e: ply_rs_bw::parser::ParseError| ParseError::Ply {
         line: e.line(),
         message: e.to_string(),
@@ -225,6 +226,26 @@ struct Ignored;
 impl PropertyAccess for Ignored {
     fn new() -> Self {
         Ignored
+    }
+}
+
+/// Replaces every byte above ASCII in the header's lines (up to the line `end_header`) by `?`:
+/// the keywords are ASCII, and the comments and `obj_info` lines downloaded files write in
+/// Latin-1 or other encodings would otherwise stop the header's parser, which reads UTF-8. One
+/// byte for one, so the payload stays where it is.
+fn replace_non_ascii_in_header(bytes: &mut [u8]) {
+    let mut start = 0;
+    while start < bytes.len() {
+        let end =
+            (bytes[start..].iter().position(|&b| b == b'\n')).map_or(bytes.len(), |i| start + i);
+        let line = &mut bytes[start..end];
+        if line.trim_ascii_end() == b"end_header" {
+            return;
+        }
+        for byte in line.iter_mut().filter(|b| !b.is_ascii()) {
+            *byte = b'?';
+        }
+        start = end + 1;
     }
 }
 

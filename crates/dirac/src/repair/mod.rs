@@ -130,17 +130,35 @@ fn collapses(p: [[f64; 3]; 3], tolerance: f64) -> bool {
     tolerance > 0.0 && 2.0 * triangle_area(p[0], p[1], p[2]) <= tolerance * longest
 }
 
-/// The first face around `vertex` that [`repair`] with the default options drops as a sliver
-/// (step 4: height at most [`DEFAULT_MERGE_DISTANCE`] times the bounding box's diagonal), if
-/// any: a valid mesh may hold such faces (their area is not zero), and where an operator is
-/// numerically singular they are the likely cause.
-pub(crate) fn sliver_around(mesh: &TriMesh, vertex: usize) -> Option<usize> {
+/// The faces of `mesh` that [`repair`] with the default options drops as slivers (step 4:
+/// height at most [`DEFAULT_MERGE_DISTANCE`] times the bounding box's diagonal), in order. A
+/// valid mesh may hold them (their area is not zero, as where CAD exporters fan a cap over
+/// collinear corners), but their cotangent weights, up to the inverse of that ratio, dominate
+/// every operator built on the mesh: its spectrum then says more about them than about the
+/// shape, and where an operator is numerically singular they are the likely cause.
+pub fn slivers(mesh: &TriMesh) -> Vec<usize> {
     let used = vec![true; mesh.vertex_count()];
     let tolerance = merge::tolerance(mesh.positions(), &used, DEFAULT_MERGE_DISTANCE);
     (mesh.faces().iter().enumerate())
-        .filter(|(_, face)| face.contains(&vertex))
-        .find(|(_, face)| collapses(face.map(|v| mesh.positions()[v]), tolerance))
+        .filter(|(_, face)| collapses(face.map(|v| mesh.positions()[v]), tolerance))
         .map(|(t, _)| t)
+        .collect()
+}
+
+/// The warning a mesh with `count` [`slivers`] deserves, the first of them `first`.
+pub fn sliver_warning(count: usize, first: usize) -> String {
+    format!(
+        "{count} sliver face{} (face {first}{}): height at most 1e-9 of the mesh's size, with \
+         cotangent weights a billion or more times the others'; they dominate every operator and \
+         can spoil its spectrum: remove them with --repair",
+        if count == 1 { "" } else { "s" },
+        if count == 1 { "" } else { " first" },
+    )
+}
+
+/// The first of the [`slivers`] around `vertex`, if any.
+pub(crate) fn sliver_around(mesh: &TriMesh, vertex: usize) -> Option<usize> {
+    (slivers(mesh).into_iter()).find(|&t| mesh.faces()[t].contains(&vertex))
 }
 
 /// Repairs `raw` into a valid [`TriMesh`] (see the [module documentation](self) for the

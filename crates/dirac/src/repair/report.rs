@@ -27,7 +27,7 @@ impl<T> Default for Change<T> {
 
 impl<T: Ord> Change<T> {
     /// The change affecting `items` (in any order; each listed once).
-    pub(super) fn of(mut items: Vec<T>) -> Self {
+    pub fn of(mut items: Vec<T>) -> Self {
         items.sort_unstable();
         let count = items.len();
         items.truncate(MAX_EXAMPLES);

@@ -299,13 +299,16 @@ fn restorations<T: Scalar<Real = f64>>(modes: &[KernelMode<T>], n: usize) -> Vec
     for (i, mode) in coupled.iter().enumerate() {
         members[groups.find(i)].push(mode);
     }
+    // An empty group (a set's other members) falls through to `orthogonalised`, which makes
+    // nothing of it; one mode needs no fit: its own coefficient (the common case).
     members
         .iter()
-        .filter(|group| !group.is_empty())
         .flat_map(|group| {
-            // One mode needs no fit: its own coefficient (the common case, unchanged).
-            let images: Vec<SparseVector<T>> = group.iter().map(|m| m.image.clone()).collect();
-            match (group.len() > 1).then(|| Gram::new(&images)).flatten() {
+            let fit = (group.len() > 1).then(|| {
+                let images: Vec<SparseVector<T>> = group.iter().map(|m| m.image.clone()).collect();
+                Gram::new(&images)
+            });
+            match fit.flatten() {
                 Some(images) => vec![Restoration::Fit {
                     vectors: group.iter().map(|m| m.vector.clone()).collect(),
                     images,

@@ -68,8 +68,13 @@
 //! the tolerance, or when its normwise backward error
 //! `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)` is at the rounding floor
 //! [`ROUNDING_BACKWARD_ERROR`] (unless `|λ| ‖Q‖` exceeds `‖P‖` by more than its inverse: there
-//! every `x` with `Q x` at rounding level passes, an eigenvalue at infinity); otherwise [`SpectrumError::NotConverged`] carries the pairs
-//! that are.
+//! every `x` with `Q x` at rounding level passes, an eigenvalue at infinity). Pairs the
+//! eigensolver accepted at its rounding level that fail this test (Lanczos vectors less
+//! accurate than rounding allows, where the reduced `P` is ill-conditioned and the smallest
+//! eigenvalues cluster, as on finely faceted cylinders) are refined by up to two steps of
+//! subspace iteration with the matrices themselves (`qeig::Pencil::refine`); what still fails
+//! makes [`SpectrumError::NotConverged`], which carries the pairs that pass and says what the
+//! others tell ([`Unaccepted`]).
 
 mod first_order;
 mod kernel;
@@ -91,7 +96,7 @@ use first_order::Unremoved;
 pub use kernel::KernelSummary;
 use kernel::{ExactKernel, NEARLY_FLAT, flatness_around};
 use pencil::{Matrices, OperatorPencil, PencilSpec};
-use solve::{Pairs, SolveError, products};
+use solve::{Pairs, SolveError, Solved, products};
 
 use crate::geometry::barycentric_masses;
 use crate::operators::OperatorError;
@@ -908,37 +913,122 @@ pub enum SpectrumError {
     #[error(
         "the eigensolver converged {} of {wanted} eigenvalues{}",
         partial.eigenvalues.len(),
-        at_infinity_note(*.at_infinity, partial.eigenvalues.len())
+        unaccepted.explanation(&partial.eigenvalues).map_or(String::new(), |e| format!("; {e}"))
     )]
     NotConverged {
         /// Eigenvalues asked for.
         wanted: usize,
         /// The converged part.
         partial: Box<Spectrum>,
-        /// Pairs found that are not converged because their eigenvalue is at infinity
-        /// (`|λ| ‖Q‖` beyond `‖P‖ /` [`ROUNDING_BACKWARD_ERROR`]: `Q` vanishes on them to
-        /// rounding); when there are any, the operator has no further finite nonzero
-        /// eigenvalues to find.
-        at_infinity: usize,
+        /// The pairs the eigensolver found that are not in `partial`, and why.
+        unaccepted: Unaccepted,
     },
 }
 
-/// What [`SpectrumError::NotConverged`] adds when pairs at infinity were found.
-fn at_infinity_note(at_infinity: usize, converged: usize) -> String {
-    match at_infinity {
-        0 => String::new(),
-        count => format!(
-            "; {count} other pair{} found {} eigenvalue{} at infinity (the coupling vanishes \
-             on {} to rounding), so outside its kernel the operator has only {converged} finite \
-             nonzero eigenvalue{} to find: ask for fewer, or use --operator family:T \
-             (0 < T < 1)",
-            if count == 1 { "" } else { "s" },
-            if count == 1 { "is an" } else { "are" },
-            if count == 1 { "" } else { "s" },
-            if count == 1 { "it" } else { "them" },
-            if converged == 1 { "" } else { "s" },
-        ),
+/// The pairs an eigensolve found that did not pass the convergence test of the operator's own
+/// eigenproblem (module documentation, "Results"), so that [`SpectrumError::NotConverged`]
+/// does not list them: what they tell is said in its message.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Unaccepted {
+    /// Pairs whose eigenvalue is at infinity (`|λ| ‖Q‖` beyond `‖P‖ /`
+    /// [`ROUNDING_BACKWARD_ERROR`]: `Q` vanishes on them to rounding); when there are any,
+    /// the operator has no further finite nonzero eigenvalues to find.
+    pub at_infinity: usize,
+    /// Pairs of finite eigenvalue whose residual is above what the tolerance accepts.
+    pub inaccurate: usize,
+    /// The smallest `|λ|` among the inaccurate pairs (`None` without any): where it is below
+    /// the largest converged `|λ|`, the converged list has a gap.
+    pub smallest_inaccurate: Option<f64>,
+    /// The largest relative residual of the inaccurate pairs (`0` without any).
+    pub largest_residual: f64,
+}
+
+impl Unaccepted {
+    /// A suggestion of tolerance is made only up to this: a pair whose relative residual is
+    /// `100 ×` this or more is not an accurate pair short of a tight tolerance.
+    pub const LARGEST_SUGGESTED_TOLERANCE: f64 = 1e-6;
+
+    /// The pairs not converged among `measured` (`converged` flags those that are).
+    fn of(eigenvalues: &[f64], measured: &[Residual], converged: &[bool]) -> Self {
+        let mut unaccepted = Self::default();
+        for ((lambda, r), _) in
+            (eigenvalues.iter().zip(measured).zip(converged)).filter(|(_, converged)| !**converged)
+        {
+            if r.beyond_floor {
+                unaccepted.at_infinity += 1;
+                continue;
+            }
+            unaccepted.inaccurate += 1;
+            unaccepted.largest_residual = unaccepted.largest_residual.max(r.relative);
+            let smallest = unaccepted.smallest_inaccurate.get_or_insert(lambda.abs());
+            *smallest = smallest.min(lambda.abs());
+        }
+        unaccepted
     }
+
+    /// The tolerance at which every inaccurate pair counts as converged (its largest relative
+    /// residual over [`CONVERGED_RESIDUAL_FACTOR`], rounded up to one significant digit), when
+    /// it is at most [`Self::LARGEST_SUGGESTED_TOLERANCE`].
+    pub fn accepting_tolerance(&self) -> Option<f64> {
+        if self.inaccurate == 0 {
+            return None;
+        }
+        let needed = self.largest_residual / CONVERGED_RESIDUAL_FACTOR;
+        let unit = 10f64.powf(needed.log10().floor());
+        // Less a rounding's worth, so that `3e-11 / 1e-11 = 3.0000000000000004` stays 3.
+        let rounded = (needed / unit - 1e-9).ceil() * unit;
+        (rounded <= Self::LARGEST_SUGGESTED_TOLERANCE * (1.0 + 1e-9)).then_some(rounded)
+    }
+
+    /// What these pairs tell a reader of the `converged` eigenvalues, with what to do, for a
+    /// message (`None` when there are none).
+    pub fn explanation(&self, converged: &[f64]) -> Option<String> {
+        let mut sentences = Vec::new();
+        if let Some(smallest) = self.smallest_inaccurate {
+            let count = self.inaccurate;
+            let below = converged.iter().any(|l| l.abs() > smallest);
+            let mut sentence = format!(
+                "{count} other pair{} with |λ| from {smallest:.4e}{} {} computed to relative \
+                 residuals up to {:.1e}, short of the tolerance",
+                plural(count),
+                if below {
+                    ", below some of those listed,"
+                } else {
+                    ""
+                },
+                if count == 1 { "was" } else { "were" },
+                self.largest_residual,
+            );
+            if let Some(tolerance) = self.accepting_tolerance() {
+                sentence += &format!(
+                    ": --tolerance {tolerance:.0e} accepts {}",
+                    if count == 1 { "it" } else { "them" }
+                );
+            }
+            sentences.push(sentence);
+        }
+        if self.at_infinity > 0 {
+            let count = self.at_infinity;
+            sentences.push(format!(
+                "{count} other pair{} found {} eigenvalue{} at infinity (the coupling \
+                 vanishes on {} to rounding), so outside its kernel the operator has only \
+                 {} finite nonzero eigenvalue{} to find: ask for fewer, or use \
+                 --operator family:T (0 < T < 1)",
+                plural(count),
+                if count == 1 { "is an" } else { "are" },
+                plural(count),
+                if count == 1 { "it" } else { "them" },
+                converged.len(),
+                plural(converged.len()),
+            ));
+        }
+        (!sentences.is_empty()).then(|| sentences.join("; "))
+    }
+}
+
+/// `"s"` unless `count` is one.
+fn plural(count: usize) -> &'static str {
+    if count == 1 { "" } else { "s" }
 }
 
 /// The message of [`SpectrumError::NearlySingular`].
@@ -1198,32 +1288,70 @@ fn solve_pencil<T: Scalar<Real = f64>>(
         0
     };
     let wanted = options.k - listed;
-    let mut pairs = Pairs::none();
-    if wanted > 0 {
-        let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
-        check_available(&kernel, wanted, reduced.available(), mesh, options.operator)?;
-        pairs = solve::solve(
-            &reduced,
-            spec.form,
-            spec.solved(),
-            &kernel,
+    let report = |mut pairs: Pairs<T>| {
+        pairs.values.splice(0..0, vec![0.0; listed]);
+        pairs.vectors.splice(0..0, kernel.basis(&masses, listed));
+        finish(
+            pairs,
+            &spec.operator,
             &masses,
-            wanted,
             options,
-            &mut progress,
+            scale,
+            kernel.summary(),
         )
-        .map_err(|e| singular_error(e, &spec, mesh, options.flat_tolerance))?;
+    };
+    if wanted == 0 {
+        return report(Pairs::none());
     }
-    pairs.values.splice(0..0, vec![0.0; listed]);
-    pairs.vectors.splice(0..0, kernel.basis(&masses, listed));
-    finish(
-        pairs,
-        &spec.operator,
-        &masses,
-        options,
-        scale,
-        kernel.summary(),
-    )
+    let reduced = solve::reduce(spec.form, spec.solved(), &kernel, &masses)?;
+    check_available(&kernel, wanted, reduced.available(), mesh, options.operator)?;
+    let problem = solve::Problem {
+        reduced: &reduced,
+        form: spec.form,
+        matrices: spec.solved(),
+        kernel: &kernel,
+        masses: &masses,
+    };
+    let singular = |e| singular_error(e, &spec, mesh, options.flat_tolerance);
+    let Solved { pairs, mut reduced } = problem
+        .solve(wanted, options, &mut progress)
+        .map_err(singular)?;
+    let complete = pairs.complete;
+    let mut result = report(pairs);
+    // Pairs the eigensolver accepted that fail the operator's own test: refined by steps of
+    // subspace iteration (module documentation, "Results"); a result replaces the one before
+    // only if more pairs converge.
+    for _ in 0..REFINEMENT_STEPS {
+        let (Some(eigen), Err(SpectrumError::NotConverged { unaccepted, .. })) =
+            (&reduced, &result)
+        else {
+            break;
+        };
+        if unaccepted.inaccurate == 0 {
+            break;
+        }
+        let refined = problem.refine(eigen, complete).map_err(singular)?;
+        reduced = refined.reduced;
+        let candidate = report(refined.pairs);
+        if converged_count(&candidate, options.k) > converged_count(&result, options.k) {
+            result = candidate;
+        }
+    }
+    result
+}
+
+/// At most this many steps of [`solve::Problem::refine`] for pairs the eigensolver accepted
+/// that fail the operator's own convergence test: each shrinks what lies outside the wanted
+/// pairs' span by the ratio of the largest eigenvalue outside to the smallest inside.
+const REFINEMENT_STEPS: usize = 2;
+
+/// How many of `k` pairs a result lists as converged.
+fn converged_count(result: &Result<Spectrum, SpectrumError>, k: usize) -> usize {
+    match result {
+        Ok(_) => k,
+        Err(SpectrumError::NotConverged { partial, .. }) => partial.eigenvalues.len(),
+        Err(_) => 0,
+    }
 }
 
 /// `k` and the operator's parameter in range, flat tolerance valid.
@@ -1409,9 +1537,7 @@ fn finish<T: Scalar<Real = f64>>(
         .iter()
         .map(|r| r.is_converged(options.tolerance))
         .collect();
-    let at_infinity = (measured.iter().zip(&converged))
-        .filter(|(r, c)| r.beyond_floor && !**c)
-        .count();
+    let unaccepted = Unaccepted::of(&eigenvalues, &measured, &converged);
     let residuals = measured.iter().map(|r| r.relative).collect();
     let backward_errors = measured.iter().map(|r| r.backward_error).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
@@ -1432,7 +1558,7 @@ fn finish<T: Scalar<Real = f64>>(
         Err(SpectrumError::NotConverged {
             wanted: options.k,
             partial: Box::new(spectrum),
-            at_infinity,
+            unaccepted,
         })
     }
 }

@@ -39,6 +39,17 @@ pub(super) enum Form {
     },
 }
 
+impl Form {
+    /// The operator's eigenvalue `λ` of an eigenvalue `μ` of the pencil this form solves.
+    pub fn eigenvalue(self, mu: f64) -> f64 {
+        match self {
+            Form::Shifted { epsilon } => 1.0 / mu - epsilon,
+            Form::Pinned => 1.0 / mu,
+            Form::Literal { sigma } => 1.0 / mu - sigma,
+        }
+    }
+}
+
 /// The two matrices of a pencil `P x = λ Q x` over the scalar `T`.
 #[derive(Debug, Clone)]
 pub(super) struct Matrices<T> {

@@ -75,52 +75,96 @@ impl<T: Scalar> Reduced<T> {
     }
 }
 
-/// The `count` nonzero eigenpairs of smallest `|λ|`, from the problem [`reduce`] built with
-/// the same arguments.
-pub(super) fn solve<T: Scalar<Real = f64>>(
-    reduced: &Reduced<T>,
-    form: Form,
-    matrices: &Matrices<T>,
-    kernel: &ExactKernel<T>,
-    masses: &[f64],
-    count: usize,
-    options: &SpectrumOptions,
-    progress: ProgressCallback,
-) -> Result<Pairs<T>, SolveError> {
-    let n = masses.len();
-    let mut pairs = match form {
-        Form::Shifted { epsilon } => {
-            let eigen = run(reduced, count, Which::LargestAlgebraic, options, progress)?;
-            map_pairs(eigen, reduced, n, |mu| 1.0 / mu - epsilon)
-        }
-        Form::Pinned => {
-            let eigen = run(reduced, count, Which::LargestMagnitude, options, progress)?;
-            // No shift: `λ = 1/μ`, refined below.
-            map_pairs(eigen, reduced, n, |mu| 1.0 / mu)
-        }
-        Form::Literal { sigma } => literal(reduced, sigma, count, options, progress)?,
-    };
-    // Pair by pair, on two threads: each pair costs a few sparse products.
-    let each = pairs.vectors.iter_mut().zip(&mut pairs.values).collect();
-    threads::map_on_two_threads(each, |(x, lambda): (&mut Vec<T>, &mut f64)| {
-        if form == Form::Pinned && !kernel.restoration.is_empty() {
-            restore_modes(matrices, &kernel.restoration, *lambda, x);
-        }
-        for mode in &kernel.modes {
-            match (form, mode.coupling) {
-                (Form::Pinned, Coupling::Orthogonal) => {}
-                (Form::Pinned, Coupling::Oblique) => project_oblique(mode, x),
-                _ => remove_mass_component(masses, &mode.vector, x),
+/// The eigenproblem one form solves: the reduced problem [`reduce`] built, and what maps its
+/// pairs back to the operator's.
+pub(super) struct Problem<'a, T> {
+    /// The reduced problem, built by [`reduce`] with the same form, matrices, kernel and
+    /// masses.
+    pub reduced: &'a Reduced<T>,
+    pub form: Form,
+    pub matrices: &'a Matrices<T>,
+    pub kernel: &'a ExactKernel<T>,
+    pub masses: &'a [f64],
+}
+
+/// The pairs of the operator a solve found, with those of the reduced pencil they come from
+/// when they can be refined ([`Problem::refine`]; the literal form, which solves several
+/// times, keeps none).
+pub(super) struct Solved<T> {
+    pub pairs: Pairs<T>,
+    pub reduced: Option<Eigen<T>>,
+}
+
+impl<T: Scalar<Real = f64>> Problem<'_, T> {
+    /// The `count` nonzero eigenpairs of smallest `|λ|`.
+    pub fn solve(
+        &self,
+        count: usize,
+        options: &SpectrumOptions,
+        progress: ProgressCallback,
+    ) -> Result<Solved<T>, SolveError> {
+        let which = match self.form {
+            Form::Shifted { .. } => Which::LargestAlgebraic,
+            Form::Pinned => Which::LargestMagnitude,
+            Form::Literal { sigma } => {
+                let pairs = literal(self.reduced, sigma, count, options, progress)?;
+                return Ok(Solved {
+                    pairs: self.completed(pairs),
+                    reduced: None,
+                });
             }
-        }
-        if form == Form::Pinned {
-            // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil: its
-            // error is second order in the vector's, where `1/μ` is first order.
-            let (px, qx) = products(matrices, x);
-            *lambda = vector::real_inner(x, &px) / vector::real_inner(x, &qx);
-        }
-    });
-    Ok(pairs)
+        };
+        let (eigen, complete) = run(self.reduced, count, which, options, progress)?;
+        Ok(Solved {
+            pairs: self.completed(self.mapped(&eigen, complete)),
+            reduced: Some(eigen),
+        })
+    }
+
+    /// The pairs of `eigen`, pairs of the reduced pencil that [`Problem::solve`] found, after
+    /// one step of [`Pencil::refine`] (the vectors of the Lanczos can be less accurate than
+    /// rounding allows where the reduced `S` is ill-conditioned and eigenvalues cluster).
+    pub fn refine(&self, eigen: &Eigen<T>, complete: bool) -> Result<Solved<T>, SolveError> {
+        let refined = (pencil(self.reduced).and_then(|p| p.refine(eigen)))
+            .map_err(|e| solve_error(self.reduced, e))?;
+        Ok(Solved {
+            pairs: self.completed(self.mapped(&refined, complete)),
+            reduced: Some(refined),
+        })
+    }
+
+    /// The pairs of the operator from those of the reduced pencil (`complete`: all wanted
+    /// converged), before [`Problem::completed`].
+    fn mapped(&self, eigen: &Eigen<T>, complete: bool) -> Pairs<T> {
+        map_pairs(eigen, complete, self.reduced, self.masses.len(), self.form)
+    }
+
+    /// The kernel's components of each pair as its form leaves them to be set, and `λ` as the
+    /// Rayleigh quotient in the pinned form.
+    fn completed(&self, mut pairs: Pairs<T>) -> Pairs<T> {
+        let (form, kernel, matrices, masses) = (self.form, self.kernel, self.matrices, self.masses);
+        // Pair by pair, on two threads: each pair costs a few sparse products.
+        let each = pairs.vectors.iter_mut().zip(&mut pairs.values).collect();
+        threads::map_on_two_threads(each, |(x, lambda): (&mut Vec<T>, &mut f64)| {
+            if form == Form::Pinned && !kernel.restoration.is_empty() {
+                restore_modes(matrices, &kernel.restoration, *lambda, x);
+            }
+            for mode in &kernel.modes {
+                match (form, mode.coupling) {
+                    (Form::Pinned, Coupling::Orthogonal) => {}
+                    (Form::Pinned, Coupling::Oblique) => project_oblique(mode, x),
+                    _ => remove_mass_component(masses, &mode.vector, x),
+                }
+            }
+            if form == Form::Pinned {
+                // The Rayleigh quotient is stationary at eigenvectors of the Hermitian pencil:
+                // its error is second order in the vector's, where `1/μ` is first order.
+                let (px, qx) = products(matrices, x);
+                *lambda = vector::real_inner(x, &px) / vector::real_inner(x, &qx);
+            }
+        });
+        pairs
+    }
 }
 
 /// `(P x, Q x)`, computed as `(Pᴴ x, Qᴴ x)`: both are Hermitian, and the adjoint product is
@@ -207,17 +251,19 @@ fn project_oblique<T: Scalar<Real = f64>>(mode: &KernelMode<T>, x: &mut [T]) {
     mode.vector.add_to(x, -c);
 }
 
-/// The eigenvalues `μ` of the reduced pencil mapped to `λ` by `to_lambda(μ, y)`, with full
-/// vectors.
+/// The eigenvalues `μ` of the reduced pencil mapped to the operator's `λ` as `form` says, with
+/// full vectors.
 fn map_pairs<T: Scalar<Real = f64>>(
-    eigen: (Eigen<T>, bool),
+    eigen: &Eigen<T>,
+    complete: bool,
     reduced: &Reduced<T>,
     n: usize,
-    to_lambda: impl Fn(f64) -> f64,
+    form: Form,
 ) -> Pairs<T> {
-    let (eigen, complete) = eigen;
     Pairs {
-        values: (eigen.values.iter()).map(|&mu| to_lambda(mu)).collect(),
+        values: (eigen.values.iter())
+            .map(|&mu| form.eigenvalue(mu))
+            .collect(),
         vectors: (eigen.vectors.iter())
             .map(|y| reduced.reduction.expand(y, n))
             .collect(),
@@ -256,7 +302,8 @@ fn literal<T: Scalar<Real = f64>>(
             progress,
         )?;
         statistics += &eigen.0.statistics;
-        let mut pairs = map_pairs(eigen, reduced, n, |mu| 1.0 / mu - sigma);
+        let (eigen, complete) = eigen;
+        let mut pairs = map_pairs(&eigen, complete, reduced, n, Form::Literal { sigma });
         let highest = pairs
             .values
             .iter()
@@ -293,11 +340,7 @@ fn run<T: Scalar<Real = f64>>(
     options: &SpectrumOptions,
     progress: ProgressCallback,
 ) -> Result<(Eigen<T>, bool), SolveError> {
-    let eigen_error = |e: EigError<T>| SpectrumError::Eigen(std::sync::Arc::new(e));
-    let pencil = Pencil::new(&reduced.k, &reduced.s)
-        .and_then(|p| p.with_constraints(reduced.constraints.clone()))
-        .and_then(|p| p.with_low_rank_update(reduced.low_rank.clone()))
-        .map_err(eigen_error)?;
+    let pencil = pencil(reduced).map_err(|e| solve_error(reduced, e))?;
     let mut lanczos = LanczosOptions::new(count, which);
     lanczos.tolerance = options.tolerance;
     lanczos.seed = options.seed;
@@ -316,11 +359,26 @@ fn run<T: Scalar<Real = f64>>(
     match result {
         Ok(e) => Ok((e, true)),
         Err(EigError::NotConverged { partial, .. }) => Ok((*partial, false)),
-        Err(EigError::Factorization(CholeskyError::NotPositiveDefinite { index, .. })) => {
-            Err(SolveError::Singular(Some(reduced.reduction.kept[index])))
+        Err(e) => Err(solve_error(reduced, e)),
+    }
+}
+
+/// The reduced problem as `qeig` takes it.
+fn pencil<T: Scalar<Real = f64>>(reduced: &Reduced<T>) -> Result<Pencil<'_, T>, EigError<T>> {
+    Pencil::new(&reduced.k, &reduced.s)
+        .and_then(|p| p.with_constraints(reduced.constraints.clone()))
+        .and_then(|p| p.with_low_rank_update(reduced.low_rank.clone()))
+}
+
+/// An error of `qeig` on the reduced problem: a factorisation that fails is a singular
+/// operator, at the vertex of the failing pivot when known.
+fn solve_error<T: Scalar<Real = f64>>(reduced: &Reduced<T>, error: EigError<T>) -> SolveError {
+    match error {
+        EigError::Factorization(CholeskyError::NotPositiveDefinite { index, .. }) => {
+            SolveError::Singular(Some(reduced.reduction.kept[index]))
         }
-        Err(EigError::EmbeddedFactorization(_)) => Err(SolveError::Singular(None)),
-        Err(e) => Err(eigen_error(e).into()),
+        EigError::EmbeddedFactorization(_) => SolveError::Singular(None),
+        e => SpectrumError::Eigen(std::sync::Arc::new(e)).into(),
     }
 }
 
