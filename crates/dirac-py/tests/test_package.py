@@ -346,7 +346,9 @@ def test_the_gil_is_released_during_a_solve():
 def test_progress_is_reported_and_an_exception_from_it_stops_the_solve():
     V, F = torus(160, 60)
     states = []
+    start = time.perf_counter()
     full = ds.spectrum(V, F, k=40, progress=states.append)
+    full_seconds = time.perf_counter() - start
     assert len(states) == full.statistics["restarts"] >= 3
     assert states[-1]["locked"] <= states[-1]["wanted"] == 40
     assert all(s["operator_applications"] > 0 for s in states)
@@ -357,15 +359,19 @@ def test_progress_is_reported_and_an_exception_from_it_stops_the_solve():
     def stop_after_one(state):
         raise Stop(state["restarts"])
 
+    # Wall time against wall time (the solver's own total leaves out the assembly).
     start = time.perf_counter()
     with pytest.raises(Stop):
         ds.spectrum(V, F, k=40, progress=stop_after_one)
-    assert time.perf_counter() - start < 0.7 * full.statistics["total_seconds"]
+    assert time.perf_counter() - start < 0.7 * full_seconds
 
 
 def test_ctrl_c_interrupts_a_long_solve():
     V, F = torus(160, 60)
-    full = ds.spectrum(V, F, k=40).statistics["total_seconds"]
+    # Wall time, as `elapsed` below is (the solver's own total leaves out the assembly).
+    start = time.perf_counter()
+    ds.spectrum(V, F, k=40)
+    full = time.perf_counter() - start
     # Python's own Ctrl-C handler, also where the test runs with SIGINT ignored (a background
     # job of a non-interactive shell inherits SIG_IGN, and Python keeps it).
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)

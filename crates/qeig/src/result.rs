@@ -12,11 +12,10 @@ use std::time::Duration;
 ///   `⟨x, y⟩ = Σ conj(xₗ) yₗ`). A quaternionic eigenvector is defined up to a unit scalar on the
 ///   right, `xᵢ q` with `|q| = 1`; no phase is imposed.
 /// * `residuals[i]` is the relative residual `‖K xᵢ − μᵢ S xᵢ‖ / (|μᵢ| ‖S xᵢ‖)` (Euclidean
-///   norms), recomputed from the returned pair. Under constraints
-///   ([`crate::Pencil::with_constraints`]) it includes the component of `K xᵢ − μᵢ S xᵢ` along
-///   the constraint vectors, which the constrained pencil does not ask to vanish, and can be of
-///   order one at converged pairs; [`crate::Pencil::refine`] reports the residual of the
-///   constrained pencil instead.
+///   norms), recomputed from the returned pair. Under constraints `cᴴ x = 0`
+///   ([`crate::Pencil::with_constraints`]) the residual of a pair of the constrained pencil
+///   lies in the span of the `c` wherever it is exact, so only its component outside that span
+///   counts: `‖Π (K xᵢ − μᵢ S xᵢ)‖`, `Π r = r − C (CᴴC)⁻¹ Cᴴ r`.
 #[derive(Debug, Clone)]
 pub struct Eigen<T> {
     /// Eigenvalues `μᵢ`.

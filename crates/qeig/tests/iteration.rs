@@ -60,6 +60,47 @@ fn deflating_eigenvectors_removes_them() {
     }
 }
 
+/// A constraint `cᴴ x = 0` with `c` no eigenvector's image: the residual `K x − μ S x` of a
+/// pair of the constrained pencil is a multiple of `c`, not zero, so the reported residual is
+/// its part orthogonal to `c`, at rounding, where the whole of it is not.
+#[test]
+fn residuals_under_a_constraint_are_what_the_constrained_pencil_misses() {
+    let (k_mat, s_mat) = pencil(47, 30);
+    let mut rng = Rng::new(5);
+    let c: Vec<Q> = (0..30).map(|_| rng.scalar()).collect();
+    let eig = Pencil::new(&k_mat, &s_mat)
+        .unwrap()
+        .with_constraints(SparseMatrix::from_dense_columns(30, std::slice::from_ref(&c)).unwrap())
+        .unwrap()
+        .solve(&Native, &LanczosOptions::new(4, Which::LargestMagnitude))
+        .unwrap();
+    for (i, (&mu, x)) in eig.values.iter().zip(&eig.vectors).enumerate() {
+        let along: Q = c.iter().zip(x).map(|(c, v)| c.conj() * *v).sum();
+        assert!(along.abs() < 1e-10, "{i}: cᴴx = {along:?}");
+        let (mut kx, mut sx) = (vec![Q::default(); 30], vec![Q::default(); 30]);
+        k_mat.mul_vec(x, &mut kx).unwrap();
+        s_mat.mul_vec(x, &mut sx).unwrap();
+        let r: Vec<Q> = kx.iter().zip(&sx).map(|(k, s)| *k - s.scale(mu)).collect();
+        let scale = mu.abs() * norm(&sx);
+        // `r = c a` with `a = cᴴr / cᴴc`: what is left is rounding.
+        let a = c
+            .iter()
+            .zip(&r)
+            .map(|(c, r)| c.conj() * *r)
+            .sum::<Q>()
+            .scale(1.0 / norm(&c).powi(2));
+        let left: Vec<Q> = r.iter().zip(&c).map(|(r, c)| *r - *c * a).collect();
+        assert!(norm(&r) > 1e-3 * scale, "{i}: the constraint does not bind");
+        assert!(norm(&left) < 1e-9 * scale, "{i}: {}", norm(&left) / scale);
+        assert!(eig.residuals[i] < 1e-9, "{i}: {}", eig.residuals[i]);
+    }
+}
+
+/// Euclidean norm.
+fn norm(x: &[Q]) -> f64 {
+    x.iter().map(|v| v.abs2()).sum::<f64>().sqrt()
+}
+
 #[test]
 fn locking_allows_more_pairs_than_the_basis_holds() {
     let (k_mat, s_mat) = pencil(41, 80);
