@@ -282,15 +282,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         let dim = op.dim();
         let constraints = &self.constraints;
         let units = if B::COPIES == 1 { 1 } else { T::REAL_DIM };
-        let directions = (0..constraints.ncols())
-            .flat_map(|j| {
-                let (rows, values) = constraints.col(j);
-                let c = SparseVector {
-                    rows: rows.to_vec(),
-                    values: values.to_vec(),
-                };
-                (0..units).map(move |u| c.times(unit(u)))
-            })
+        let directions = columns(constraints)
+            .flat_map(|c| (0..units).map(move |u| c.times(unit(u))))
             .map(|ce| op.constraint_direction(&backend.embed_sparse(&ce, n)));
         let basis = Basis::constrained(dim, directions);
 
@@ -447,8 +440,8 @@ const DEPENDENT: f64 = 1e-10;
 /// `Cᴴ x = 0`, i.e. `x = S⁻¹ y − W G⁻¹ Wᴴ y` with `W = S⁻¹ C` and `G = Cᴴ S⁻¹ C`.
 struct ConstrainedSolve<'f, T: Scalar> {
     factor: &'f SparseCholesky<T>,
-    /// `C`.
-    constraints: &'f SparseMatrix<T>,
+    /// The columns of `C`.
+    columns: Vec<SparseVector<T>>,
     /// `W = S⁻¹ C`, by column.
     solved: Vec<Vec<T>>,
     /// `G⁻¹` through `G = U Λ Uᴴ`: the columns `U` and `1/Λ` (zero for a direction where `G`
@@ -459,22 +452,15 @@ struct ConstrainedSolve<'f, T: Scalar> {
 
 impl<'f, T: Scalar<Real = f64>> ConstrainedSolve<'f, T> {
     fn new(factor: &'f SparseCholesky<T>, c: &'f SparseMatrix<T>) -> Result<Self, EigError<T>> {
-        let n = c.nrows();
-        let mut solved = Vec::with_capacity(c.ncols());
-        for j in 0..c.ncols() {
-            let (rows, values) = c.col(j);
-            let mut w = vec![T::zero(); n];
-            for (&r, &v) in rows.iter().zip(values) {
-                w[r] = v;
-            }
+        let columns: Vec<SparseVector<T>> = columns(c).collect();
+        let mut solved = Vec::with_capacity(columns.len());
+        for column in &columns {
+            let mut w = column.to_dense(c.nrows());
             factor.solve_in_place(&mut w)?;
             solved.push(w);
         }
-        let g = DenseMatrix::from_fn(c.ncols(), c.ncols(), |i, j| {
-            let (rows, values) = c.col(i);
-            (rows.iter().zip(values))
-                .map(|(&r, v)| v.conj() * solved[j][r])
-                .sum()
+        let g = DenseMatrix::from_fn(columns.len(), columns.len(), |i, j| {
+            columns[i].inner(&solved[j])
         });
         let eigen = hermitian_eigen(&g)?;
         let largest = scaling::largest_magnitude(&eigen.values);
@@ -483,7 +469,7 @@ impl<'f, T: Scalar<Real = f64>> ConstrainedSolve<'f, T> {
             .collect();
         Ok(Self {
             factor,
-            constraints: c,
+            columns,
             solved,
             eigenvectors: eigen.vectors,
             inverse_values,
@@ -494,14 +480,7 @@ impl<'f, T: Scalar<Real = f64>> ConstrainedSolve<'f, T> {
     fn solve_in_place(&self, y: &mut [T]) -> Result<(), EigError<T>> {
         self.factor.solve_in_place(y)?;
         // `t = Cᴴ S⁻¹ y`, then `y ← S⁻¹ y − W G⁻¹ t`.
-        let projections: Vec<T> = (0..self.constraints.ncols())
-            .map(|j| {
-                let (rows, values) = self.constraints.col(j);
-                (rows.iter().zip(values))
-                    .map(|(&r, v)| v.conj() * y[r])
-                    .sum()
-            })
-            .collect();
+        let projections: Vec<T> = self.columns.iter().map(|c| c.inner(y)).collect();
         let u = &self.eigenvectors;
         for (col, &inverse) in self.inverse_values.iter().enumerate() {
             if inverse == 0.0 {
@@ -520,7 +499,7 @@ impl<'f, T: Scalar<Real = f64>> ConstrainedSolve<'f, T> {
 }
 
 /// A pair of the pencil after folding, with its relative residual
-/// `‖K x − μ S x‖ / (|μ| ‖S x‖)`.
+/// (`WithProducts::relative_residual`).
 struct Folded<T> {
     value: f64,
     vector: Vec<T>,
@@ -582,15 +561,8 @@ struct TestSpace<T> {
 impl<T: Scalar<Real = f64>> TestSpace<T> {
     /// The test space of the constraints `c` (columns).
     fn of(c: &SparseMatrix<T>) -> Self {
-        let columns = (0..c.ncols()).map(|j| {
-            let (rows, values) = c.col(j);
-            SparseVector {
-                rows: rows.to_vec(),
-                values: values.to_vec(),
-            }
-        });
         Self {
-            constraints: (c.ncols() > 0).then(|| Constraints::new(c.nrows(), columns)),
+            constraints: (c.ncols() > 0).then(|| Constraints::new(c.nrows(), columns(c))),
         }
     }
 
@@ -610,6 +582,17 @@ impl<T: Scalar<Real = f64>> TestSpace<T> {
         constraints.project(&mut blocked);
         vector::from_blocked(&blocked, r);
     }
+}
+
+/// The columns of `c` as sparse vectors.
+fn columns<T: Scalar>(c: &SparseMatrix<T>) -> impl Iterator<Item = SparseVector<T>> + '_ {
+    (0..c.ncols()).map(|j| {
+        let (rows, values) = c.col(j);
+        SparseVector {
+            rows: rows.to_vec(),
+            values: values.to_vec(),
+        }
+    })
 }
 
 /// The unit `e_u` whose only non-zero component is component `u` (`1, i, j, k` for
