@@ -37,7 +37,7 @@ fn summary(out: &Path) -> Vec<(String, String, Vec<String>)> {
     let mut lines = text.lines();
     let header = lines.next().expect("a header");
     assert!(
-        header.starts_with("mesh,status,vertices,faces,converged,seconds,error,lambda_0"),
+        header.starts_with("mesh,status,vertices,faces,converged,seconds,error,slivers,lambda_0"),
         "{header}"
     );
     lines
@@ -123,7 +123,8 @@ fn batch_computes_reports_failures_and_resumes() {
             .into_iter()
             .find(|(n, _, _)| n == name)
             .expect("a row");
-        let listed: f64 = row.2[7].parse().expect("lambda_0");
+        assert_eq!(row.2[7], "0", "{name}: no sliver faces");
+        let listed: f64 = row.2[8].parse().expect("lambda_0");
         assert!((listed - values[0]).abs() <= 1e-12 * values[0].abs());
     }
     assert!(!out.join("b.off.json").exists());
@@ -136,7 +137,7 @@ fn batch_computes_reports_failures_and_resumes() {
     let eigenvalue_fields = |out: &Path| -> Vec<Vec<String>> {
         summary(out)
             .into_iter()
-            .map(|(_, _, fields)| fields[7..].to_vec())
+            .map(|(_, _, fields)| fields[8..].to_vec())
             .collect()
     };
     let computed = eigenvalue_fields(&out);
@@ -181,6 +182,51 @@ fn batch_computes_reports_failures_and_resumes() {
         Some(0)
     );
     assert!(statuses(&out).iter().all(|(_, status)| status == "ok"));
+}
+
+/// A mesh with a sliver face (a square with a flap whose apex is `1e-12` off its edge) is
+/// computed, counted in the summary's `slivers` column (also when a later run skips it) and
+/// warned of at the end.
+#[test]
+fn sliver_faces_are_counted_in_the_summary() {
+    let dir = scratch("batch_slivers");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    fs::write(
+        input.join("flap.obj"),
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 -1e-12 0\nf 1 2 3\nf 1 3 4\nf 2 1 5\n",
+    )
+    .expect("the temporary directory is writable");
+    write_off(&bumpy_sphere(1, 1, 0.1), input.join("sphere.off"));
+    let out = dir.join("out");
+    let args = [
+        "batch",
+        text(&input),
+        "--operator",
+        "laplace",
+        "-k",
+        "2",
+        "--out",
+        text(&out),
+    ];
+    for expected in ["ok", "skipped"] {
+        let output = dirac(&args);
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        let message = stderr(&output);
+        assert!(
+            message.contains("warning: 1 mesh has sliver faces") && message.contains("--repair"),
+            "{message}"
+        );
+        let rows = summary(&out);
+        let slivers: Vec<(&str, &str, &str)> = rows
+            .iter()
+            .map(|(name, status, fields)| (name.as_str(), status.as_str(), fields[7].as_str()))
+            .collect();
+        assert_eq!(
+            slivers,
+            [("flap.obj", expected, "1"), ("sphere.off", expected, "0")]
+        );
+    }
 }
 
 #[test]

@@ -265,6 +265,7 @@ fn finished(
             status: Status::Skipped,
             vertices: report["vertices"].as_u64(),
             faces: report["faces"].as_u64(),
+            slivers: report["preparation"]["slivers"]["count"].as_u64(),
             seconds: Some(
                 timings["load"].as_f64().unwrap_or(0.0)
                     + timings["assemble_and_solve"].as_f64().unwrap_or(0.0),
@@ -345,11 +346,13 @@ impl Job<'_> {
             RunSettings::new(&self.args.solve, &self.options),
             start.elapsed(),
         );
+        let slivers = Some(preparation.slivers.count as u64);
         report.preparation = Some(preparation);
         report.mesh_sha256 = Some(digest);
         let mut row = Row {
             vertices: Some(mesh.vertex_count() as u64),
             faces: Some(mesh.face_count() as u64),
+            slivers,
             ..Row::failed(mesh_path, String::new())
         };
         match solve_until(&mesh, None, &name, &self.options, true, interrupted) {
@@ -462,6 +465,14 @@ fn print_outcome(rows: &[Row], summary: &Path) {
         if n > 0 || matches!(status, Status::Ok | Status::Failed) {
             eprintln!("  {:<14}{n:>7}", status.name());
         }
+    }
+    let with_slivers = rows.iter().filter(|row| row.slivers > Some(0)).count();
+    if with_slivers > 0 {
+        eprintln!(
+            "warning: {with_slivers} mesh{} sliver faces, which dominate every operator and can \
+             spoil its spectrum (column slivers of the summary): --repair removes them",
+            if with_slivers == 1 { " has" } else { "es have" }
+        );
     }
     let unfinished: Vec<&Row> = rows.iter().filter(|row| row.status.is_failure()).collect();
     if !unfinished.is_empty() {

@@ -1,9 +1,11 @@
 //! The summary table of a batch: one row per mesh, written as CSV and read back by
 //! `--merge`.
 //!
-//! Columns: `mesh, status, vertices, faces, converged, seconds, error, lambda_0 …`; at most as
-//! many eigenvalue columns as the largest mesh has vertices (`k` eigenvalues exist only on
-//! meshes with at least `k` vertices, so a huge `-k` fails on every mesh, not here).
+//! Columns: `mesh, status, vertices, faces, converged, seconds, error, slivers, lambda_0 …`; at
+//! most as many eigenvalue columns as the largest mesh has vertices (`k` eigenvalues exist only
+//! on meshes with at least `k` vertices, so a huge `-k` fails on every mesh, not here).
+//! `slivers` came last among the fixed columns so that summaries written before it (without
+//! it) still read back: `--merge` may combine shards computed by different versions.
 
 use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
@@ -82,6 +84,9 @@ pub struct Row {
     pub faces: Option<u64>,
     /// Wall-clock seconds (load, solve and write).
     pub seconds: Option<f64>,
+    /// Sliver faces of the mesh used ([`dirac::repair::slivers`]), when it could be read and
+    /// prepared (a summary written before the column: unknown).
+    pub slivers: Option<u64>,
     /// Why the mesh failed or did not converge; empty otherwise.
     pub error: String,
     /// The eigenvalues that converged, sorted by `|λ|`.
@@ -97,6 +102,7 @@ impl Row {
             vertices: None,
             faces: None,
             seconds: None,
+            slivers: None,
             error,
             eigenvalues: Vec::new(),
         }
@@ -108,7 +114,7 @@ impl Row {
     }
 }
 
-const FIXED_COLUMNS: [&str; 7] = [
+const FIXED_COLUMNS: [&str; 8] = [
     "mesh",
     "status",
     "vertices",
@@ -116,7 +122,11 @@ const FIXED_COLUMNS: [&str; 7] = [
     "converged",
     "seconds",
     "error",
+    "slivers",
 ];
+
+/// The fixed columns of summaries written before `slivers`.
+const FIXED_COLUMNS_WITHOUT_SLIVERS: usize = 7;
 
 /// Writes the summary table of `rows` for `k` eigenvalues.
 pub fn write_summary(rows: &[Row], k: usize, out: impl Write) -> io::Result<()> {
@@ -140,6 +150,7 @@ pub fn write_summary(rows: &[Row], k: usize, out: impl Write) -> io::Result<()> 
             row.status.is_complete().to_string(),
             optional(row.seconds.map(|s| format!("{s:.3}"))),
             row.error.clone(),
+            optional(row.slivers.map(|s| s.to_string())),
         ];
         // `{}` of an f64 is its shortest representation that reads back exactly.
         fields.extend(row.eigenvalues.iter().map(f64::to_string));
@@ -168,13 +179,16 @@ fn optional<T: FromStr>(line: u64, what: &str, text: &str) -> Result<Option<T>, 
 pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
     let mut reader = csv::ReaderBuilder::new().flexible(true).from_reader(input);
     let header = reader.headers().map_err(|e| e.to_string())?.clone();
-    if header.iter().take(FIXED_COLUMNS.len()).ne(FIXED_COLUMNS) {
+    let old = &FIXED_COLUMNS[..FIXED_COLUMNS_WITHOUT_SLIVERS];
+    if header.iter().take(old.len()).ne(old.iter().copied()) {
         return Err(format!(
             "line 1: expected the columns {}, found {}",
             FIXED_COLUMNS.join(","),
             header.iter().collect::<Vec<_>>().join(",")
         ));
     }
+    let has_slivers = header.get(old.len()) == Some("slivers");
+    let fixed = if has_slivers { FIXED_COLUMNS.len() } else { old.len() };
     let mut rows = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| e.to_string())?;
@@ -185,7 +199,7 @@ pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
             Status::from_name(field(1)).ok_or_else(|| invalid(line, "status", field(1)))?;
         let eigenvalues = record
             .iter()
-            .skip(FIXED_COLUMNS.len())
+            .skip(fixed)
             .filter_map(|text| optional(line, "eigenvalue", text).transpose())
             .collect::<Result<_, _>>()?;
         rows.push(Row {
@@ -194,6 +208,11 @@ pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
             vertices: optional(line, "vertex count", field(2))?,
             faces: optional(line, "face count", field(3))?,
             seconds: optional(line, "time", field(5))?,
+            slivers: if has_slivers {
+                optional(line, "sliver count", field(7))?
+            } else {
+                None
+            },
             error: field(6).to_string(),
             eigenvalues,
         });
@@ -214,6 +233,7 @@ mod tests {
                 vertices: Some(4),
                 faces: Some(4),
                 seconds: Some(0.25),
+                slivers: Some(2),
                 error: String::new(),
                 eigenvalues: vec![-12.220338406721039, 1e-300, 3.0],
             },
@@ -233,7 +253,17 @@ mod tests {
         write_summary(&[row], usize::MAX, &mut text).unwrap();
         let header = String::from_utf8(text).unwrap();
         let header = header.lines().next().unwrap();
-        assert!(header.ends_with("error,lambda_0,lambda_1"), "{header}");
+        assert!(header.ends_with("error,slivers,lambda_0,lambda_1"), "{header}");
+    }
+
+    #[test]
+    fn a_summary_written_before_the_slivers_column_reads_back() {
+        let text = "mesh,status,vertices,faces,converged,seconds,error,lambda_0,lambda_1\n\
+                    a.off,ok,4,4,true,0.250,,-1.5,2\n";
+        let rows = read_summary(text.as_bytes()).unwrap();
+        assert_eq!(rows.len(), 1);
+        assert_eq!((rows[0].vertices, rows[0].slivers), (Some(4), None));
+        assert_eq!(rows[0].eigenvalues, [-1.5, 2.0]);
     }
 
     #[test]
