@@ -82,3 +82,64 @@ def cone(around: int) -> tuple[np.ndarray, np.ndarray]:
     F = [[i, (i + 1) % around, around] for i in range(around)]
     F += [[(i + 1) % around, i, around + 1] for i in range(around)]
     return V, np.array(F)
+
+
+def revolve(profile: list[tuple[float, float]], around: int, bottom: str) -> tuple[np.ndarray, np.ndarray]:
+    """The surface of revolution of the polyline ``profile`` of ``(radius, height)`` points
+    about the z axis, ``around`` vertices per ring: a band of two triangles per quad between
+    consecutive rings (a cone frustum or a cylinder, creased where the profile turns), open at
+    the top and closed at the bottom around a centre (``bottom="centre"``) or left open
+    (``"none"``); counter-clockwise seen from outside for a profile of increasing height."""
+    angle = 2 * np.pi * np.arange(around) / around
+    V = [[r * np.cos(t), r * np.sin(t), z] for r, z in profile for t in angle]
+    F = ring_faces(len(profile), around).tolist()
+    if bottom == "centre":
+        V.append([0.0, 0.0, profile[0][1]])
+        F += [[(i + 1) % around, i, len(V) - 1] for i in range(around)]
+    return np.array(V, dtype=float), np.array(F)
+
+
+def rounded_square(segments: int, half_side: float = 1.0, radius: float = 0.3) -> np.ndarray:
+    """A counter-clockwise square section whose corners are quarter circles of ``segments``
+    edges each: flat sides tangent to cylindrical fillets once extruded, as CAD rounds edges."""
+    points = []
+    for corner, (cx, cy) in enumerate([(1, 1), (-1, 1), (-1, -1), (1, -1)]):
+        centre = np.array([cx, cy]) * (half_side - radius)
+        for step in range(segments + 1):
+            t = np.pi / 2 * (corner + step / segments)
+            points.append(centre + radius * np.array([np.cos(t), np.sin(t)]))
+    return np.array(points)
+
+
+def voxels(cells: list[tuple[int, int, int]], cuts: int) -> tuple[np.ndarray, np.ndarray]:
+    """The boundary of a union of unit cubes (integer corners ``cells``), each exposed face a
+    flat grid of ``cuts × cuts`` quads split in two: an L-bracket, a frame with a hole, stairs.
+    Cells meeting only along an edge or at a corner would make it non-manifold."""
+    filled = set(cells)
+    index: dict[tuple[float, ...], int] = {}
+    F = []
+    steps = np.linspace(0, 1, cuts + 1)
+    for cell in cells:
+        for axis in range(3):
+            u, w = [a for a in range(3) if a != axis]
+            for side in (0, 1):
+                neighbour = list(cell)
+                neighbour[axis] += 2 * side - 1
+                if tuple(neighbour) in filled:
+                    continue
+                outward = np.zeros(3)
+                outward[axis] = 2 * side - 1
+                for i in range(cuts):
+                    for j in range(cuts):
+                        quad, corner = [], []
+                        for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                            p = np.array(cell, dtype=float)
+                            p[axis] += side
+                            p[u] += steps[i + di]
+                            p[w] += steps[j + dj]
+                            quad.append(index.setdefault(tuple(np.round(p, 12)), len(index)))
+                            corner.append(p)
+                        turn = np.cross(corner[1] - corner[0], corner[2] - corner[0]) @ outward
+                        a, b, c, d = quad if turn > 0 else quad[::-1]
+                        F += [[a, b, c], [a, c, d]]
+    return np.array(list(index), dtype=float), np.array(F)

@@ -10,7 +10,12 @@
 //! `S`-orthonormal quaternionic basis is extracted by pivoted Gram–Schmidt with coefficients
 //! on the right (a vector whose remaining `S`-norm is below 0.1 lies in the quaternionic span
 //! of the others: for the embedded backends these are the 4 or 2 copies `x`, `x i`, `x j`,
-//! `x k` of one quaternionic eigenvector). A Rayleigh–Ritz step on the cluster
+//! `x k` of one quaternionic eigenvector). For the embedded backends, clusters within `√tol`
+//! of each other (the accuracy accepted at the rounding level) become one when together they
+//! span less than apart: copies of one eigenvalue computed further apart than the cluster
+//! width (an ill-conditioned `S` leaves errors far above the tolerance in the eigenvalues of a
+//! small `|λ|`) would otherwise each count as a quaternionic eigenvalue of their own.
+//! A Rayleigh–Ritz step on the cluster
 //! (`Qᴴ K Q`, dense quaternion solver) gives the returned pairs. For the native backend this
 //! only re-orthonormalises; for the embedded ones it returns one pair per quaternionic
 //! eigenvalue with its quaternionic multiplicity.
@@ -311,8 +316,11 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
             |x| self.k_mul(x),
             &self.s,
             &TestSpace::of(&self.constraints),
-            &values,
-            vectors,
+            Converged {
+                values: &values,
+                vectors,
+                copies: B::COPIES > 1,
+            },
             options.which,
             options.tolerance,
         )?;
@@ -611,23 +619,41 @@ pub fn relative_cluster_width(tolerance: f64) -> f64 {
     (100.0 * tolerance).max(1e-8)
 }
 
+/// The pairs a Lanczos run converged to, as pencil vectors.
+struct Converged<'a, T> {
+    values: &'a [f64],
+    vectors: Vec<Vec<T>>,
+    /// Whether several of them may be copies of one quaternionic eigenvector (`x`, `x i`,
+    /// … from an embedded backend).
+    copies: bool,
+}
+
+/// A member of a cluster: a vector `x` with `S x`.
+type Member<T> = (Vec<T>, Vec<T>);
+
 /// Folds converged pairs into one quaternionic pair per eigenvalue (module documentation);
 /// returns them sorted by wantedness, with their residuals. `k(x)` is `K x`.
 fn fold<T: Scalar<Real = f64>>(
     k: impl Fn(&[T]) -> Vec<T> + Sync,
     s: &SparseMatrix<T>,
     test_space: &TestSpace<T>,
-    values: &[f64],
-    vectors: Vec<Vec<T>>,
+    converged: Converged<'_, T>,
     which: Which,
     tol: f64,
 ) -> Result<Vec<Folded<T>>, EigError<T>> {
+    let Converged {
+        values,
+        vectors,
+        copies,
+    } = converged;
     let gap = relative_cluster_width(tol);
     let floor = ROUNDING * scaling::largest_magnitude(values);
     let mut order: Vec<usize> = (0..values.len()).collect();
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let mut vectors: Vec<Option<Vec<T>>> = vectors.into_iter().map(Some).collect();
     let mut clusters: Vec<Vec<Vec<T>>> = Vec::new();
+    // The smallest and largest value of each cluster.
+    let mut ranges = Vec::new();
     let mut start = 0;
     while start < order.len() {
         let mut end = start + 1;
@@ -644,20 +670,29 @@ fn fold<T: Scalar<Real = f64>>(
                 .map(|&i| vectors[i].take().expect("each vector is used once"))
                 .collect(),
         );
+        ranges.push((values[order[start]], values[order[end - 1]]));
         start = end;
     }
     // Cluster by cluster, on two threads: each costs a few sparse products per member.
-    let folded = threads::map_on_two_threads(clusters, |members| {
-        // The vectors and their S-images, projected as vectors are accepted.
-        let members = (members.into_iter())
+    let clusters = threads::map_on_two_threads(clusters, |members| {
+        (members.into_iter())
             .map(|x| {
                 let mut sx = vec![T::zero(); x.len()];
                 s.mul(&x, &mut sx);
                 (x, sx)
             })
-            .collect();
-        rayleigh_ritz(members, &k, test_space)
+            .collect::<Vec<Member<T>>>()
     });
+    let clusters = if copies {
+        let width = tol.sqrt().max(gap);
+        let near =
+            |a: (f64, f64), b: (f64, f64)| b.0 - a.1 <= width * a.1.abs().max(b.0.abs()) + floor;
+        join_copies(clusters, &ranges, near)
+    } else {
+        clusters
+    };
+    let folded =
+        threads::map_on_two_threads(clusters, |members| rayleigh_ritz(members, &k, test_space));
     let mut pairs = Vec::new();
     for cluster in folded {
         pairs.extend(cluster?);
@@ -666,16 +701,50 @@ fn fold<T: Scalar<Real = f64>>(
     Ok(pairs)
 }
 
-/// One cluster: an `S`-orthonormal basis by pivoted Gram–Schmidt (coefficients on the right;
-/// members whose remaining `S`-norm is below 0.1 are dropped as dependent), then the
-/// eigenpairs of `Qᴴ K Q` (`K q` is computed once per basis vector, not for the dropped
-/// members: an embedded backend's cluster holds several copies of one quaternionic vector).
-fn rayleigh_ritz<T: Scalar<Real = f64>>(
-    mut members: Vec<(Vec<T>, Vec<T>)>,
-    k: impl Fn(&[T]) -> Vec<T>,
-    test_space: &TestSpace<T>,
-) -> Result<Vec<Folded<T>>, EigError<T>> {
-    let mut basis: Vec<WithProducts<T>> = Vec::new();
+/// The clusters (in order of value, with their value `ranges`) grouped into neighbourhoods of
+/// consecutive clusters that are `near` each other; a neighbourhood whose clusters together
+/// span less than apart (quaternionic dimensions by [`span_basis`]) shares copies of an
+/// eigenvector between its clusters, and becomes one cluster.
+fn join_copies<T: Scalar<Real = f64>>(
+    clusters: Vec<Vec<Member<T>>>,
+    ranges: &[(f64, f64)],
+    near: impl Fn((f64, f64), (f64, f64)) -> bool,
+) -> Vec<Vec<Member<T>>> {
+    let mut joined = Vec::new();
+    let mut neighbourhood: Vec<Vec<Member<T>>> = Vec::new();
+    for (i, cluster) in clusters.into_iter().enumerate() {
+        if i > 0 && !near(ranges[i - 1], ranges[i]) {
+            joined.extend(settle(std::mem::take(&mut neighbourhood)));
+        }
+        neighbourhood.push(cluster);
+    }
+    joined.extend(settle(neighbourhood));
+    joined
+}
+
+/// A neighbourhood of clusters ([`join_copies`]): as it is, or as one cluster if together its
+/// clusters span less than apart.
+fn settle<T: Scalar<Real = f64>>(neighbourhood: Vec<Vec<Member<T>>>) -> Vec<Vec<Member<T>>> {
+    if neighbourhood.len() < 2 {
+        return neighbourhood;
+    }
+    let dimension = |members: &[Member<T>]| span_basis(members.to_vec()).len();
+    let apart: usize = neighbourhood.iter().map(|c| dimension(c)).sum();
+    if dimension(&neighbourhood.concat()) < apart {
+        vec![neighbourhood.concat()]
+    } else {
+        neighbourhood
+    }
+}
+
+/// A member whose `S`-norm left outside the span of the others is below this lies in it.
+const DEPENDENT_NORM: f64 = 0.1;
+
+/// An `S`-orthonormal basis of the quaternionic span of `members`, with `S` times each vector:
+/// pivoted Gram–Schmidt with coefficients on the right, members whose remaining `S`-norm is
+/// below [`DEPENDENT_NORM`] dropped as dependent.
+fn span_basis<T: Scalar<Real = f64>>(mut members: Vec<Member<T>>) -> Vec<Member<T>> {
+    let mut basis = Vec::new();
     while !members.is_empty() {
         let norms: Vec<f64> = (members.iter())
             .map(|(x, sx)| vector::real_inner(x, sx).max(0.0).sqrt())
@@ -683,7 +752,7 @@ fn rayleigh_ritz<T: Scalar<Real = f64>>(
         let (best, &norm) = (norms.iter().enumerate())
             .max_by(|a, b| a.1.total_cmp(b.1))
             .expect("non-empty");
-        if norm < 0.1 {
+        if norm < DEPENDENT_NORM {
             break;
         }
         let (mut q, mut sq) = members.swap_remove(best);
@@ -694,13 +763,22 @@ fn rayleigh_ritz<T: Scalar<Real = f64>>(
             vector::axpy(x, &q, -c);
             vector::axpy(sx, &sq, -c);
         }
-        let kq = k(&q);
-        basis.push(WithProducts {
-            x: q,
-            kx: kq,
-            sx: sq,
-        });
+        basis.push((q, sq));
     }
+    basis
+}
+
+/// One cluster: an `S`-orthonormal basis of its span ([`span_basis`]), then the eigenpairs of
+/// `Qᴴ K Q` (`K q` is computed once per basis vector, not for the dropped members: an
+/// embedded backend's cluster holds several copies of one quaternionic vector).
+fn rayleigh_ritz<T: Scalar<Real = f64>>(
+    members: Vec<Member<T>>,
+    k: impl Fn(&[T]) -> Vec<T>,
+    test_space: &TestSpace<T>,
+) -> Result<Vec<Folded<T>>, EigError<T>> {
+    let basis: Vec<WithProducts<T>> = (span_basis(members).into_iter())
+        .map(|(x, sx)| WithProducts { kx: k(&x), x, sx })
+        .collect();
     let m = basis.len();
     let h = DenseMatrix::from_fn(m, m, |a, b| vector::inner(&basis[a].x, &basis[b].kx));
     let eig = hermitian_eigen(&h)?;
@@ -710,4 +788,69 @@ fn rayleigh_ritz<T: Scalar<Real = f64>>(
                 .relative_residual(mu, test_space)
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use qscalar::Quat;
+
+    /// `e_i q`: the `i`-th unit vector of length `n` times `q`.
+    fn unit_vector(n: usize, i: usize, q: Quat<f64>) -> Vec<Quat<f64>> {
+        let mut x = vec![Quat::from_real(0.0); n];
+        x[i] = q;
+        x
+    }
+
+    /// The values of `fold` on `K = diag(1, 1 + 10⁻⁷, 3)`, `S = I`, given converged pairs:
+    /// the copies `e₀`, `e₀ i`, `e₀ j` of the eigenvector of `1` with values computed up to
+    /// `3·10⁻⁷` apart (the cluster width is `10⁻⁸`), interleaved with `e₁` (a distinct
+    /// eigenvalue `10⁻⁷` above), and `e₂`.
+    fn folded_values(copies: bool) -> Vec<f64> {
+        let n = 3;
+        let diagonal = [1.0, 1.0 + 1e-7, 3.0].map(Quat::from_real);
+        let k = SparseMatrix::from_diagonal(&diagonal);
+        let s = SparseMatrix::identity(n);
+        let i = |u: usize| unit::<Quat<f64>>(u);
+        let values = [1.0, 1.0 + 1e-7, 1.0 + 2e-7, 1.0 + 3e-7, 3.0];
+        let vectors = vec![
+            unit_vector(n, 0, i(0)),
+            unit_vector(n, 1, i(0)),
+            unit_vector(n, 0, i(1)),
+            unit_vector(n, 0, i(2)),
+            unit_vector(n, 2, i(0)),
+        ];
+        let k_mul = |x: &[Quat<f64>]| {
+            let mut y = vec![Quat::from_real(0.0); x.len()];
+            k.mul(x, &mut y);
+            y
+        };
+        let converged = Converged {
+            values: &values,
+            vectors,
+            copies,
+        };
+        let test_space = TestSpace::of(&SparseMatrix::zeros(n, 0));
+        let pairs = fold(
+            k_mul,
+            &s,
+            &test_space,
+            converged,
+            Which::SmallestAlgebraic,
+            1e-10,
+        )
+        .expect("a dense solve of order 3");
+        pairs.iter().map(|p| p.value).collect()
+    }
+
+    #[test]
+    fn copies_computed_apart_fold_into_one_eigenvalue() {
+        let values = folded_values(true);
+        assert_eq!(values.len(), 3, "{values:?}");
+        for (value, exact) in values.iter().zip([1.0, 1.0 + 1e-7, 3.0]) {
+            assert!((value - exact).abs() <= 1e-15, "{values:?}");
+        }
+        // Without the join each value cluster counted as an eigenvalue of its own.
+        assert_eq!(folded_values(false).len(), 5);
+    }
 }

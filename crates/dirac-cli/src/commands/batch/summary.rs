@@ -188,7 +188,11 @@ pub fn read_summary(input: impl Read) -> Result<Vec<Row>, String> {
         ));
     }
     let has_slivers = header.get(old.len()) == Some("slivers");
-    let fixed = if has_slivers { FIXED_COLUMNS.len() } else { old.len() };
+    let fixed = if has_slivers {
+        FIXED_COLUMNS.len()
+    } else {
+        old.len()
+    };
     let mut rows = Vec::new();
     for record in reader.records() {
         let record = record.map_err(|e| e.to_string())?;
@@ -253,7 +257,10 @@ mod tests {
         write_summary(&[row], usize::MAX, &mut text).unwrap();
         let header = String::from_utf8(text).unwrap();
         let header = header.lines().next().unwrap();
-        assert!(header.ends_with("error,slivers,lambda_0,lambda_1"), "{header}");
+        assert!(
+            header.ends_with("error,slivers,lambda_0,lambda_1"),
+            "{header}"
+        );
     }
 
     #[test]
