@@ -1010,6 +1010,18 @@ fn the_accepting_tolerance_is_the_largest_residual_rounded_up() {
     assert!(close(unaccepted(3e-9).accepting_tolerance(), 3e-11));
     assert!(close(unaccepted(9.5e-5).accepting_tolerance(), 1e-6));
     assert_eq!(unaccepted(2e-4).accepting_tolerance(), None);
+    // Beyond any tolerance, the message says why and what to do instead.
+    let explained = |residual| unaccepted(residual).explanation(&[0.5]).unwrap_or_default();
+    assert!(
+        explained(1e-2).contains("--operator family:T"),
+        "{}",
+        explained(1e-2)
+    );
+    assert!(
+        !explained(9.5e-5).contains("family"),
+        "{}",
+        explained(9.5e-5)
+    );
     assert_eq!(Unaccepted::default().accepting_tolerance(), None);
     assert_eq!(Unaccepted::default().explanation(&[1.0]), None);
 }

@@ -987,9 +987,27 @@ impl Unaccepted {
         if let Some(smallest) = self.smallest_inaccurate {
             let count = self.inaccurate;
             let below = converged.iter().any(|l| l.abs() > smallest);
-            let mut sentence = format!(
+            let them = if count == 1 { "it" } else { "them" };
+            let verdict = if let Some(tolerance) = self.accepting_tolerance() {
+                format!("short of the tolerance: --tolerance {tolerance:.0e} accepts {them}")
+            } else if self.largest_residual
+                > CONVERGED_RESIDUAL_FACTOR * Self::LARGEST_SUGGESTED_TOLERANCE
+            {
+                // Pairs the Lanczos accepted that fail the operator's own test by this much
+                // come from applying an operator that is singular to rounding.
+                String::from(
+                    "far beyond any tolerance: the operator nearly vanishes on some functions \
+                     without vanishing exactly (as D_N does on developable parts such as thin \
+                     cylinders and cones), so its smallest eigenvalues are below what double \
+                     precision resolves; for the Dirac operators use --operator family:T \
+                     (0 < T < 1)",
+                )
+            } else {
+                String::from("short of the tolerance")
+            };
+            let sentence = format!(
                 "{count} other pair{} with |λ| from {smallest:.4e}{} {} computed to relative \
-                 residuals up to {:.1e}, short of the tolerance",
+                 residuals up to {:.1e}, {verdict}",
                 plural(count),
                 if below {
                     ", below some of those listed,"
@@ -999,12 +1017,6 @@ impl Unaccepted {
                 if count == 1 { "was" } else { "were" },
                 self.largest_residual,
             );
-            if let Some(tolerance) = self.accepting_tolerance() {
-                sentence += &format!(
-                    ": --tolerance {tolerance:.0e} accepts {}",
-                    if count == 1 { "it" } else { "them" }
-                );
-            }
             sentences.push(sentence);
         }
         if self.at_infinity > 0 {
