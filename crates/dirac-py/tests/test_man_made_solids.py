@@ -139,11 +139,11 @@ def test_every_backend_counts_the_pairs_near_the_kernel_once():
 
 
 def test_a_tube_with_nearly_ruled_fillets_names_the_family_as_the_remedy():
-    """An open tube of a rounded square, fillets of 32 edges, two rings: the vertex normals of
-    a fillet's top and bottom rings differ slightly (the triangulation is not symmetric), so
-    its rulings are not exact and their functions are not in the exact kernel, but `P`
-    annihilates two of them to rounding (four quaternionic eigenvalues below `1e-14` of its
-    largest where the exact kernel has two). Relative Dirac cannot resolve the pencil there:
+    """An open tube of a rounded square, fillets of 32 edges, two rings: the area-weighted
+    vertex normals of a fillet's top and bottom rings differ (the triangulation is not
+    symmetric), so its columns of vertices are no rulings and their functions are not in the
+    exact kernel, but `P` annihilates two functions constant along the columns to rounding
+    (four quaternionic eigenvalues below `1e-14` of its largest where the exact kernel has two). Relative Dirac cannot resolve the pencil there:
     the error says so, offers no tolerance, and names the family, whose spectrum matches the
     dense reference."""
     V, F = prism(rounded_square(32), 2, "none")
