@@ -674,25 +674,29 @@ fn fold<T: Scalar<Real = f64>>(
         start = end;
     }
     // Cluster by cluster, on two threads: each costs a few sparse products per member.
-    let clusters = threads::map_on_two_threads(clusters, |members| {
+    let with_images = |members: Vec<Vec<T>>| -> Vec<Member<T>> {
         (members.into_iter())
             .map(|x| {
                 let mut sx = vec![T::zero(); x.len()];
                 s.mul(&x, &mut sx);
                 (x, sx)
             })
-            .collect::<Vec<Member<T>>>()
-    });
-    let clusters = if copies {
+            .collect()
+    };
+    let folded = if copies {
+        let clusters = threads::map_on_two_threads(clusters, with_images);
         let width = tol.sqrt().max(gap);
         let near =
             |a: (f64, f64), b: (f64, f64)| b.0 - a.1 <= width * a.1.abs().max(b.0.abs()) + floor;
-        join_copies(clusters, &ranges, near)
+        let clusters = join_copies(clusters, &ranges, near);
+        threads::map_on_two_threads(clusters, |members| rayleigh_ritz(members, &k, test_space))
     } else {
-        clusters
+        // The images of one cluster at a time: those of all `k` pairs would double the
+        // eigenvectors' memory.
+        threads::map_on_two_threads(clusters, |members| {
+            rayleigh_ritz(with_images(members), &k, test_space)
+        })
     };
-    let folded =
-        threads::map_on_two_threads(clusters, |members| rayleigh_ritz(members, &k, test_space));
     let mut pairs = Vec::new();
     for cluster in folded {
         pairs.extend(cluster?);
