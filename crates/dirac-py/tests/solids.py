@@ -53,26 +53,7 @@ def cut(section: np.ndarray, cuts: int) -> np.ndarray:
 
 def cube(cuts: int) -> tuple[np.ndarray, np.ndarray]:
     """The unit cube, each face a flat grid of ``cuts × cuts`` quads split in two."""
-    index: dict[tuple[float, ...], int] = {}
-    F = []
-    steps = np.linspace(0, 1, cuts + 1)
-    for axis in range(3):
-        u, w = [a for a in range(3) if a != axis]
-        for side in (0.0, 1.0):
-            outward = np.zeros(3)
-            outward[axis] = 2 * side - 1
-            for i in range(cuts):
-                for j in range(cuts):
-                    quad, corner = [], []
-                    for di, dj in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                        p = np.zeros(3)
-                        p[axis], p[u], p[w] = side, steps[i + di], steps[j + dj]
-                        quad.append(index.setdefault(tuple(p), len(index)))
-                        corner.append(p)
-                    turn = np.cross(corner[1] - corner[0], corner[2] - corner[0]) @ outward
-                    a, b, c, d = quad if turn > 0 else quad[::-1]
-                    F += [[a, b, c], [a, c, d]]
-    return np.array(list(index), dtype=float), np.array(F)
+    return voxels([(0, 0, 0)], cuts)
 
 
 def cone(around: int) -> tuple[np.ndarray, np.ndarray]:
@@ -116,7 +97,9 @@ def voxels(cells: list[tuple[int, int, int]], cuts: int) -> tuple[np.ndarray, np
     flat grid of ``cuts × cuts`` quads split in two: an L-bracket, a frame with a hole, stairs.
     Cells meeting only along an edge or at a corner would make it non-manifold."""
     filled = set(cells)
+    # Corners by their coordinates rounded (sums of cells and steps), each kept as first met.
     index: dict[tuple[float, ...], int] = {}
+    V = []
     F = []
     steps = np.linspace(0, 1, cuts + 1)
     for cell in cells:
@@ -137,9 +120,13 @@ def voxels(cells: list[tuple[int, int, int]], cuts: int) -> tuple[np.ndarray, np
                             p[axis] += side
                             p[u] += steps[i + di]
                             p[w] += steps[j + dj]
-                            quad.append(index.setdefault(tuple(np.round(p, 12)), len(index)))
+                            key = tuple(np.round(p, 12))
+                            if key not in index:
+                                index[key] = len(V)
+                                V.append(p)
+                            quad.append(index[key])
                             corner.append(p)
                         turn = np.cross(corner[1] - corner[0], corner[2] - corner[0]) @ outward
                         a, b, c, d = quad if turn > 0 else quad[::-1]
                         F += [[a, b, c], [a, c, d]]
-    return np.array(list(index), dtype=float), np.array(F)
+    return np.array(V, dtype=float), np.array(F)
