@@ -157,6 +157,41 @@ fn invalid_meshes_name_the_defect_and_the_repair() {
 }
 
 #[test]
+fn a_mobius_strip_is_named_non_orientable_without_pointing_to_repair() {
+    // A strip of 8 quads glued with a half twist: no repair can orient it, so the error says
+    // what to do instead of suggesting --repair (which would only say "not orientable").
+    let dir = scratch("repair_mobius");
+    let n = 8;
+    let mut obj = String::new();
+    for i in 0..n {
+        let u = std::f64::consts::TAU * i as f64 / n as f64;
+        for w in [-0.3_f64, 0.3] {
+            let (r, z) = (1.0 + w * (u / 2.0).cos(), w * (u / 2.0).sin());
+            obj.push_str(&format!("v {} {} {}\n", r * u.cos(), r * u.sin(), z));
+        }
+    }
+    for i in 0..n {
+        let (a, b) = (2 * i + 1, 2 * i + 2);
+        let (c, d) = if i + 1 < n {
+            (2 * i + 3, 2 * i + 4)
+        } else {
+            (2, 1)
+        };
+        obj.push_str(&format!("f {a} {c} {d}\nf {a} {d} {b}\n"));
+    }
+    let path = dir.join("mobius.obj");
+    fs::write(&path, obj).expect("the temporary directory is writable");
+    let plain = dirac(&["spectrum", text(&path), "-k", "3"]);
+    assert_eq!(plain.status.code(), Some(1));
+    let message = stderr(&plain);
+    assert!(
+        message.contains("not orientable") && message.contains("cut the surface"),
+        "{message}"
+    );
+    assert!(!message.contains("--repair"), "{message}");
+}
+
+#[test]
 fn dirac_repair_writes_a_mesh_that_needs_no_repair() {
     let dir = scratch("repair_command");
     let mesh = bumpy_sphere(1, 2, 0.1);

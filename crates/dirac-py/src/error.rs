@@ -91,6 +91,11 @@ pub fn plain(py: Python<'_>, kind: Kind, message: impl ToString) -> PyErr {
 /// `message` (the error itself, or the error with its file), of `kind` `InvalidMesh` (a failed
 /// validation) or `Mesh`.
 pub fn mesh_error(py: Python<'_>, kind: Kind, error: &MeshError, message: impl ToString) -> PyErr {
+    // No repair orients a non-orientable surface: its message says what to do instead.
+    let kind = match error {
+        MeshError::NonOrientable { .. } => Kind::Mesh,
+        _ => kind,
+    };
     let (face, vertex) = mesh_elements(error);
     with_elements(py, kind, message, face, vertex)
 }
@@ -104,7 +109,7 @@ fn mesh_elements(error: &MeshError) -> (Option<usize>, Option<usize>) {
         MeshError::UnreferencedVertex { vertex }
         | MeshError::NonFiniteCoordinate { vertex }
         | MeshError::NonManifoldVertex { vertex, .. } => (None, Some(*vertex)),
-        MeshError::ZeroAreaFace { face } => (Some(*face), None),
+        MeshError::ZeroAreaFace { face } | MeshError::NonOrientable { face } => (Some(*face), None),
         MeshError::NonManifoldEdge { faces, .. } => (faces.first().copied(), None),
         MeshError::InconsistentOrientation { faces, .. } => (Some(faces[0]), None),
         _ => (None, None),

@@ -127,3 +127,26 @@ def test_the_dirac_operators_of_a_soup_point_to_repair_in_python_terms(operator)
     assert f"{len(Fs)} separate" in str(error.value)
     repaired = ds.repair(Vs, Fs)
     assert ds.spectrum(repaired.vertices, repaired.faces, k=4, operator=operator).converged.all()
+
+
+def test_a_mobius_strip_is_named_non_orientable_without_pointing_to_repair():
+    # Eight quads glued with a half twist: every operator refuses it, naming a face, and the
+    # message does not send the user to a repair that would only say the same.
+    n = 8
+    V = []
+    for i in range(n):
+        u = 2 * np.pi * i / n
+        for w in (-0.3, 0.3):
+            r, z = 1 + w * np.cos(u / 2), w * np.sin(u / 2)
+            V.append([r * np.cos(u), r * np.sin(u), z])
+    F = []
+    for i in range(n):
+        a, b = 2 * i, 2 * i + 1
+        c, d = (2 * i + 2, 2 * i + 3) if i + 1 < n else (1, 0)
+        F += [[a, c, d], [a, d, b]]
+    with pytest.raises(ds.MeshError, match="not orientable") as error:
+        ds.spectrum(np.array(V), np.array(F), k=3, operator="laplace")
+    assert 0 <= error.value.face < len(F)
+    assert "repair" not in str(error.value)
+    with pytest.raises(ds.MeshError, match="not orientable"):
+        ds.repair(np.array(V), np.array(F))

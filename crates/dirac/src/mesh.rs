@@ -9,6 +9,7 @@ use qsparse::DisjointSets;
 use thiserror::Error;
 
 use crate::geometry::{corner_cotangent, cross, norm, scale, sub};
+use crate::repair::orientation;
 
 /// Why a mesh was rejected. Each variant names the offending element; vertex and face indices
 /// refer to the arrays given to the constructor.
@@ -84,6 +85,19 @@ pub enum MeshError {
         edge: [usize; 2],
         /// The two faces.
         faces: [usize; 2],
+    },
+    /// The surface is not orientable (a Möbius strip or similar): no choice of the faces'
+    /// orientations is consistent, so [`crate::repair`] cannot fix it either. The Dirac
+    /// operators act on oriented surfaces (the normal and the orientation of each face
+    /// enter `D`).
+    #[error(
+        "the surface is not orientable (a Möbius-like surface): face {face} cannot be oriented \
+         consistently with its neighbours, whatever the orientations chosen; cut the surface \
+         along an edge of face {face} or remove its component"
+    )]
+    NonOrientable {
+        /// A face whose orientation conflicts with its neighbours' under every choice.
+        face: usize,
     },
     /// The faces around a vertex form more than one fan (the surface is pinched there).
     #[error("the faces around vertex {vertex} form {fans} separate fans")]
@@ -292,6 +306,30 @@ pub(crate) fn check_face_shape(
     Ok(())
 }
 
+/// The error for faces `a` and `b` that traverse their shared edge the same way: whether
+/// reversing some faces would fix it (then [`crate::repair`] does) or nothing would (the faces
+/// sharing edges pairwise form a non-orientable surface). Only a failing mesh pays for the
+/// search.
+fn orientation_error(faces: &[[usize; 3]], a: &EdgeUse, b: &EdgeUse) -> MeshError {
+    let glued: Vec<[EdgeUse; 2]> = edge_uses(faces)
+        .chunk_by(same_edge)
+        .filter_map(|group| match *group {
+            [a, b] => Some([a, b]),
+            _ => None,
+        })
+        .collect();
+    // The areas only choose which orientation a part keeps, which does not matter here.
+    match orientation(faces.len(), &glued, &vec![0.0; faces.len()]) {
+        Err(conflict) => MeshError::NonOrientable {
+            face: conflict.face,
+        },
+        Ok(_) => MeshError::InconsistentOrientation {
+            edge: a.directed(),
+            faces: [a.face(), b.face()],
+        },
+    }
+}
+
 /// Edge-manifold, consistently oriented and vertex-manifold. Expects indices below
 /// `vertex_count`.
 fn check_manifold(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshError> {
@@ -302,10 +340,7 @@ fn check_manifold(vertex_count: usize, faces: &[[usize; 3]]) -> Result<(), MeshE
         match *group {
             [_] => {}
             [a, b] if a.forward() == b.forward() => {
-                return Err(MeshError::InconsistentOrientation {
-                    edge: a.directed(),
-                    faces: [a.face(), b.face()],
-                });
+                return Err(orientation_error(faces, &a, &b));
             }
             [a, b] => {
                 fans.union(a.corners[0], b.corners[0]);

@@ -422,36 +422,74 @@ fn one_flipped_face_is_flipped_back() {
     }
 }
 
-#[test]
-fn mobius_strip_is_a_typed_error() {
-    // A strip of 5 quads whose ends are glued with a half twist.
+/// A ring of 5 quads, its last quad glued to the first with a half twist (a Möbius strip) or
+/// without (a flat annulus).
+fn ring(twisted: bool) -> RawMesh {
     let n = 5;
     let mut positions = Vec::new();
     for i in 0..n {
         let u = std::f64::consts::TAU * i as f64 / n as f64;
         for w in [-0.3, 0.3] {
-            let (r, z) = (1.0 + w * (u / 2.0).cos(), w * (u / 2.0).sin());
+            let (r, z) = if twisted {
+                (1.0 + w * (u / 2.0).cos(), w * (u / 2.0).sin())
+            } else {
+                (1.0 + w, 0.0)
+            };
             positions.push([r * u.cos(), r * u.sin(), z]);
         }
     }
     let mut faces = Vec::new();
     for i in 0..n {
         let (a, b) = (2 * i, 2 * i + 1);
-        // The last quad joins the top of the first rung to the bottom of the last.
-        let (c, d) = if i + 1 < n {
-            (2 * i + 2, 2 * i + 3)
-        } else {
-            (1, 0)
+        // The last quad joins the first rung, the twisted strip upside down.
+        let (c, d) = match (i + 1 < n, twisted) {
+            (true, _) => (2 * i + 2, 2 * i + 3),
+            (false, true) => (1, 0),
+            (false, false) => (0, 1),
         };
         faces.push([a, c, d]);
         faces.push([a, d, b]);
     }
-    let error = repair(raw(positions, faces), &RepairOptions::default()).unwrap_err();
+    raw(positions, faces)
+}
+
+#[test]
+fn mobius_strip_is_a_typed_error() {
+    let input = ring(true);
+    // Validation says so too, instead of naming two faces that repair would not reconcile.
+    let invalid = rejected(&input);
+    assert!(
+        matches!(invalid, MeshError::NonOrientable { face } if face < input.faces.len()),
+        "{invalid}"
+    );
+    assert!(invalid.to_string().contains("not orientable"), "{invalid}");
+    let error = repair(input, &RepairOptions::default()).unwrap_err();
     assert!(
         matches!(error, RepairError::NonOrientable { component: 0, .. }),
         "{error}"
     );
     assert!(error.to_string().contains("not orientable"), "{error}");
+}
+
+#[test]
+fn a_flipped_face_of_a_twisted_strip_is_not_orientable_but_of_an_annulus_it_is_fixed() {
+    for flipped in 0..10 {
+        let with_flip = |mut input: RawMesh| {
+            let [i, j, k] = input.faces[flipped];
+            input.faces[flipped] = [i, k, j];
+            input
+        };
+        let annulus = with_flip(ring(false));
+        assert!(matches!(
+            rejected(&annulus),
+            MeshError::InconsistentOrientation { .. }
+        ));
+        assert_eq!(fixed(annulus).report.flipped_faces.count, 1);
+        assert!(matches!(
+            rejected(&with_flip(ring(true))),
+            MeshError::NonOrientable { .. }
+        ));
+    }
 }
 
 #[test]

@@ -236,9 +236,14 @@ pub enum CliError {
 }
 
 /// What follows the message of a mesh that cannot be read: for an invalid mesh (not for an
-/// unreadable file), that `--repair` exists; for a directory, that `dirac batch` reads one.
+/// unreadable file) that `--repair` exists, unless the mesh is not orientable, which no repair
+/// fixes (the message says what to do); for a directory, that `dirac batch` reads one.
 pub fn mesh_error_hint(error: &ReadError) -> &'static str {
     match error {
+        ReadError::Mesh {
+            source: MeshError::NonOrientable { .. },
+            ..
+        } => "",
         ReadError::Mesh { .. } => "; --repair fixes such defects (see `dirac repair --help`)",
         ReadError::Directory { .. } => "; `dirac batch` computes every mesh of a directory",
         _ => "",

@@ -29,6 +29,8 @@ mod merge;
 mod report;
 mod sheets;
 
+pub(crate) use sheets::orientation;
+
 use thiserror::Error;
 
 use crate::io::RawMesh;
@@ -402,6 +404,7 @@ fn in_input_numbering(
             edge: edge.map(v),
             faces: faces.map(f),
         },
+        MeshError::NonOrientable { face } => MeshError::NonOrientable { face: f(face) },
         MeshError::NonManifoldVertex { vertex, fans } => MeshError::NonManifoldVertex {
             vertex: v(vertex),
             fans,

@@ -53,18 +53,18 @@ pub(super) fn glued_edges(merged: &[[usize; 3]], input: &[[usize; 3]]) -> Vec<[E
 
 /// A connected part of the glued faces that admits no consistent orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct NonOrientable {
+pub(crate) struct NonOrientable {
     /// The part, numbered by smallest face.
-    pub(super) component: usize,
+    pub(crate) component: usize,
     /// A face whose orientation conflicts with its neighbours'.
-    pub(super) face: usize,
+    pub(crate) face: usize,
 }
 
 /// Which faces to reverse so that glued faces traverse their shared edge in opposite
 /// directions. Parts (faces connected through glued edges) are visited breadth-first from their
 /// smallest face; each keeps the orientation of the larger total area (ties: that of its
 /// smallest face).
-pub(super) fn orientation(
+pub(crate) fn orientation(
     face_count: usize,
     glued: &[[EdgeUse; 2]],
     area: &[f64],
