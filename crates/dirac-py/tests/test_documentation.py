@@ -40,3 +40,17 @@ def test_the_walk_through_and_the_scipy_check_run(tmp_path, monkeypatch):
     lam = np.sort(namespace["lam"][np.argsort(np.abs(namespace["lam"]))][::4])
     expected = np.sort(ds.spectrum(V, F, k=10).eigenvalues)
     np.testing.assert_allclose(lam, expected, rtol=1e-8)
+
+
+def test_every_code_fence_of_the_documents_is_well_formed():
+    # A fence line is ``` alone or with a language; text after a closing fence would leave the
+    # block open, and everything after it would render as code.
+    for document in sorted((REPOSITORY / "docs").glob("*.md")) + [REPOSITORY / "README.md"]:
+        fences = [
+            (number, line)
+            for number, line in enumerate(document.read_text().splitlines(), 1)
+            if line.lstrip().startswith("```")
+        ]
+        for number, line in fences:
+            assert re.fullmatch(r"\s*```[\w+-]*", line), f"{document.name}:{number}: {line!r}"
+        assert len(fences) % 2 == 0, f"{document.name}: an unclosed code block"
