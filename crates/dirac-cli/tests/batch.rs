@@ -230,6 +230,42 @@ fn sliver_faces_are_counted_in_the_summary() {
 }
 
 #[test]
+fn a_mesh_past_the_time_limit_is_stopped_and_computed_again_by_a_rerun() {
+    let dir = scratch("batch_time_limit");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    write_off(&bumpy_sphere(2, 1, 0.2), input.join("sphere.off"));
+    let out = dir.join("out");
+    let run = |extra: &[&str]| {
+        let args = [
+            &["batch", text(&input), "-k", "10", "--out", text(&out)],
+            extra,
+        ]
+        .concat();
+        dirac(&args)
+    };
+    // The limit has passed at the eigensolver's first restart, which stops it there.
+    let stopped = run(&["--time-limit", "1e-9"]);
+    assert_eq!(stopped.status.code(), Some(4), "{}", stderr(&stopped));
+    let rows = summary(&out);
+    assert_eq!(rows[0].1, "not-converged");
+    let error = &rows[0].2[6];
+    assert!(
+        error.contains("stopped at the time limit of 0.000000001 s (--time-limit)"),
+        "{error}"
+    );
+    let json: Value = serde_json::from_str(
+        &fs::read_to_string(out.join("sphere.off.json")).expect("the JSON of the stopped mesh"),
+    )
+    .expect("JSON");
+    assert_eq!(json["converged"], false);
+    // A rerun with room to finish computes it rather than skipping it.
+    let finished = run(&["--time-limit", "600"]);
+    assert_eq!(finished.status.code(), Some(0), "{}", stderr(&finished));
+    assert_eq!(statuses(&out), pairs(&[("sphere.off", "ok")]));
+}
+
+#[test]
 fn a_result_is_reused_only_for_the_same_file_contents_and_settings() {
     let dir = scratch("batch_identity");
     let (first, second, out) = (dir.join("a"), dir.join("b"), dir.join("out"));

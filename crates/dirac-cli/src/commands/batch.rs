@@ -29,7 +29,9 @@
 //! Meshes run in parallel on `--jobs` threads (default: the available parallelism); each solve
 //! itself is sequential (every faer call in `qeig` runs with `Par::Seq`), so `--jobs N` keeps N
 //! cores busy without oversubscription. A failing mesh is reported on stderr and in the summary
-//! and does not stop the others. Each mesh file is read once: its bytes are hashed and parsed.
+//! and does not stop the others; `--time-limit` stops a mesh's eigensolver at its first restart
+//! past the limit (the mesh is then `not-converged`). Each mesh file is read once: its bytes are
+//! hashed and parsed.
 
 mod merge;
 mod publish;
@@ -43,7 +45,7 @@ use std::num::NonZeroUsize;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use clap::Args;
 use clap::error::ErrorKind;
@@ -59,7 +61,7 @@ pub use self::saved::Saved;
 pub use self::shard::Shard;
 use self::summary::{Row, Status, write_summary};
 use crate::common::error::{CliError, INTERRUPTED};
-use crate::common::parsers::{positive_count, value_name};
+use crate::common::parsers::{positive_count, positive_real, value_name};
 use crate::common::preparation::PreparedMesh;
 use crate::common::report::{Report, RunSettings, write_json};
 use crate::common::solve::solve_until;
@@ -129,6 +131,13 @@ pub struct BatchArgs {
     /// times or energies, listed in the JSON). A result is complete only with them.
     #[arg(long, value_enum, value_delimiter = ',', value_name = "WHAT")]
     pub save: Vec<Saved>,
+
+    /// Stop a mesh's eigensolver once this many seconds have passed since the mesh was read
+    /// (checked after every restart of the eigensolver, so a solve overruns by at most one
+    /// restart): the mesh is `not-converged`, its JSON holds the pairs that converged, and a
+    /// rerun tries it again. Keeps a few pathological meshes from holding up a data set.
+    #[arg(long, value_name = "SECONDS", value_parser = positive_real)]
+    pub time_limit: Option<f64>,
 
     /// Recompute meshes whose output is already complete.
     #[arg(long, conflicts_with = "merge")]
@@ -355,7 +364,10 @@ impl Job<'_> {
             slivers,
             ..Row::failed(mesh_path, String::new())
         };
-        match solve_until(&mesh, None, &name, &self.options, true, interrupted) {
+        let deadline = (self.args.time_limit).map(|limit| start + Duration::from_secs_f64(limit));
+        let past_deadline = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
+        let stop = || interrupted() || past_deadline();
+        match solve_until(&mesh, None, &name, &self.options, true, stop) {
             Ok(solved) if !solved.converged && interrupted() => {
                 row.status = Status::Interrupted;
                 row.error = format!("{name}: stopped (interrupted); the next run computes it");
@@ -363,15 +375,27 @@ impl Job<'_> {
             Ok(solved) => {
                 report.set_spectrum(&solved.spectrum, solved.elapsed);
                 report.converged = solved.converged;
+                let stopped = (self.args.time_limit)
+                    .filter(|_| past_deadline())
+                    .map(|limit| {
+                        format!(
+                            "stopped at the time limit of {limit} s (--time-limit); a larger \
+                             limit may let it finish"
+                        )
+                    });
                 // What converged is in the JSON; the message is the command line's own.
-                row.status =
-                    match solved.check_converged(&name, self.options.k, "the JSON holds those") {
-                        Ok(()) => Status::Ok,
-                        Err(error) => {
-                            row.error = error.to_string();
-                            Status::NotConverged
-                        }
-                    };
+                row.status = match solved.check_converged_unless_stopped(
+                    &name,
+                    self.options.k,
+                    "the JSON holds those",
+                    stopped,
+                ) {
+                    Ok(()) => Status::Ok,
+                    Err(error) => {
+                        row.error = error.to_string();
+                        Status::NotConverged
+                    }
+                };
                 if solved.converged {
                     for &what in &self.args.save {
                         match what.write(&solved.spectrum, &self.args.out, mesh_path) {

@@ -30,19 +30,32 @@ impl Solved {
     /// of the mesh `name` converged and what was done with them (`doing`, e.g. "writing
     /// those"). Called after the converged part is printed or written.
     pub fn check_converged(&self, name: &str, wanted: usize, doing: &str) -> Result<(), CliError> {
+        self.check_converged_unless_stopped(name, wanted, doing, None)
+    }
+
+    /// [`Self::check_converged`] for a solve that may have been stopped: `stopped` says why
+    /// (a time limit), and replaces the advice when given.
+    pub fn check_converged_unless_stopped(
+        &self,
+        name: &str,
+        wanted: usize,
+        doing: &str,
+        stopped: Option<String>,
+    ) -> Result<(), CliError> {
         if self.converged {
             return Ok(());
         }
+        let advice = stopped
+            .or_else(|| self.unaccepted.explanation(&self.spectrum.eigenvalues))
+            .unwrap_or_else(|| {
+                "try a larger --tolerance, more --max-restarts or another --seed".to_string()
+            });
         Err(CliError::NotConverged {
             mesh: name.to_string(),
             converged: self.spectrum.eigenvalues.len(),
             wanted,
             doing: doing.to_string(),
-            advice: (self.unaccepted)
-                .explanation(&self.spectrum.eigenvalues)
-                .unwrap_or_else(|| {
-                    "try a larger --tolerance, more --max-restarts or another --seed".to_string()
-                }),
+            advice,
         })
     }
 }
