@@ -11,6 +11,7 @@ mod error;
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
+use std::time::{Duration, Instant};
 
 use dirac::descriptors::{self, DescriptorTable, Modes, WaveSampling};
 use dirac::geometry::{barycentric_masses, cotan_laplacian};
@@ -141,6 +142,10 @@ struct Request {
     flat_tolerance: f64,
     #[pyo3(attribute)]
     threads: usize,
+    /// Seconds after which the eigensolver stops at its next restart (`None`: no limit);
+    /// validated by the Python side (finite, positive).
+    #[pyo3(attribute)]
+    time_limit: Option<f64>,
 }
 
 /// `dirac_spectra.PotentialWell`.
@@ -282,16 +287,23 @@ fn run_detached<T: Send>(
 /// [`run_detached`] for a solve that reports progress: after every restart the GIL is taken
 /// back briefly to check for signals (Ctrl-C raises `KeyboardInterrupt` within one restart)
 /// and to call `progress` with a dict of the solver's state; an exception from either stops
-/// the solve and is raised instead of its result.
+/// the solve and is raised instead of its result. Past `deadline` the solve is stopped too,
+/// and returns what converged; the flag says whether the deadline stopped it.
 fn run_reporting<T: Send>(
     py: Python<'_>,
     threads: usize,
     progress: Option<Py<PyAny>>,
+    deadline: Option<Instant>,
     work: impl FnOnce(ProgressCallback) -> T + Send,
-) -> PyResult<T> {
+) -> PyResult<(T, bool)> {
     let mut failure: Option<PyErr> = None;
+    let mut past_deadline = false;
     let value = run_detached(py, threads, || {
         let mut report = |state: &Progress| {
+            if deadline.is_some_and(|deadline| Instant::now() >= deadline) {
+                past_deadline = true;
+                return ControlFlow::Break(());
+            }
             Python::attach(|py| {
                 let called = py.check_signals().and_then(|()| match &progress {
                     Some(callback) => callback.call1(py, (progress_dict(py, state)?,)).map(drop),
@@ -308,7 +320,7 @@ fn run_reporting<T: Send>(
         };
         work(&mut report)
     })?;
-    failure.map_or(Ok(value), Err)
+    failure.map_or(Ok((value, past_deadline)), Err)
 }
 
 /// The solver's state after a restart.
@@ -351,12 +363,21 @@ fn spectrum<'py>(
         })
         .transpose()?;
     let options = request.options(py)?;
-    let result = run_reporting(py, request.threads, progress, |report| match &reference {
-        Some(reference) => {
-            relative_spectrum_with_progress(&mesh, reference, &options, Some(report))
-        }
-        None => spectrum_with_progress(&mesh, &options, Some(report)),
-    })?;
+    let deadline =
+        (request.time_limit).map(|limit| Instant::now() + Duration::from_secs_f64(limit));
+    let (result, stopped) =
+        run_reporting(
+            py,
+            request.threads,
+            progress,
+            deadline,
+            |report| match &reference {
+                Some(reference) => {
+                    relative_spectrum_with_progress(&mesh, reference, &options, Some(report))
+                }
+                None => spectrum_with_progress(&mesh, &options, Some(report)),
+            },
+        )?;
     match result {
         Ok(spectrum) => {
             let dict = convert::spectrum_dict(py, &spectrum, eigenvectors)?;
@@ -382,6 +403,11 @@ fn spectrum<'py>(
                 partial,
                 unaccepted,
             };
+            let message = match request.time_limit.filter(|_| stopped) {
+                Some(limit) => format!("{message} (stopped at the time limit of {limit} s)"),
+                None => message.to_string(),
+            };
+            details.set_item("stopped_at_time_limit", stopped)?;
             Err(raise(Kind::NotConverged, message, &details))
         }
         Err(e) => Err(spectrum_error(py, &e)),

@@ -366,6 +366,33 @@ def test_progress_is_reported_and_an_exception_from_it_stops_the_solve():
     assert time.perf_counter() - start < 0.7 * full_seconds
 
 
+def test_a_time_limit_stops_the_solver_with_what_converged():
+    V, F = torus(160, 60)
+    states = []
+    full = ds.spectrum(V, F, k=40, progress=states.append)
+    # A limit that has passed at the first restart stops the solver there: the pairs locked
+    # by then, each the full solve's to its residuals.
+    with pytest.raises(ds.NotConvergedError, match="stopped at the time limit of 0.000000001 s") as error:
+        ds.spectrum(V, F, k=40, time_limit=1e-9)
+    assert error.value.stopped_at_time_limit
+    partial = error.value.partial
+    assert partial.statistics["restarts"] == 1 < full.statistics["restarts"]
+    assert len(partial.eigenvalues) == states[0]["locked"] < 40
+    for value in partial.eigenvalues:
+        assert np.min(np.abs(full.eigenvalues - value)) <= 1e-8 * abs(value)
+    # A limit that leaves room changes nothing.
+    roomy = ds.spectrum(V, F, k=40, time_limit=600)
+    np.testing.assert_array_equal(roomy.eigenvalues, full.eigenvalues)
+    with pytest.raises(ds.NotConvergedError) as other:
+        ds.spectrum(V, F, k=40, max_restarts=1)
+    assert not other.value.stopped_at_time_limit
+    for bad in (0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(ds.OptionsError, match="time_limit"):
+            ds.spectrum(V, F, k=4, time_limit=bad)
+    with pytest.raises(TypeError, match="time_limit"):
+        ds.spectrum(V, F, k=4, time_limit="1 s")
+
+
 def test_ctrl_c_interrupts_a_long_solve():
     V, F = torus(160, 60)
     # Wall time, as `elapsed` below is (the solver's own total leaves out the assembly).

@@ -117,6 +117,7 @@ class _Request:
     include_kernel: bool | None
     flat_tolerance: float
     threads: int
+    time_limit: float | None = None
 
 
 def _well(well: PotentialWell | float | None) -> PotentialWell | None:
@@ -133,6 +134,16 @@ def _threads(threads: int | None) -> int:
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)):
         raise TypeError(f"threads must be an integer or None, got {type(threads).__name__}")
     return int(threads)
+
+
+def _time_limit(seconds: Any) -> float | None:
+    if seconds is None:
+        return None
+    if isinstance(seconds, bool) or not isinstance(seconds, (int, float, np.integer, np.floating)):
+        raise TypeError(f"time_limit must be a number of seconds or None, got {type(seconds).__name__}")
+    if not (np.isfinite(seconds) and seconds > 0):
+        raise OptionsError(f"time_limit = {seconds} must be a finite number of seconds above 0")
+    return float(seconds)
 
 
 def _count(value: Any, name: str) -> int:
@@ -184,6 +195,7 @@ def spectrum(
     max_restarts: int = 1000,
     progress: Callable[[dict[str, int]], object] | None = None,
     relative_to: npt.ArrayLike | None = None,
+    time_limit: float | None = None,
 ) -> Spectrum:
     """The ``k`` eigenpairs of smallest ``|λ|`` of ``operator`` on the mesh ``(V, F)``.
 
@@ -231,6 +243,10 @@ def spectrum(
             relative Dirac operator ``D_{f1,f2}`` of ``V`` and ``relative_to`` instead (paper
             Fig. 3); ``relative_to = V`` gives the spectrum of ``"extrinsic-dirac"``.
             ``OptionsError`` for the other operators.
+        time_limit: seconds after which the eigensolver stops at its next restart (assembly and
+            factorisation are not interrupted): ``NotConvergedError`` with the pairs that
+            converged in ``partial`` and ``stopped_at_time_limit`` true. For data sets where
+            a few pathological meshes should not hold up the rest.
 
     Raises:
         MeshError, OptionsError, KernelError, SingularError, SolverError,
@@ -251,6 +267,7 @@ def spectrum(
         include_kernel=None if include_kernel is None else bool(include_kernel),
         flat_tolerance=float(flat_tolerance),
         threads=_threads(threads),
+        time_limit=_time_limit(time_limit),
     )
     vertices, faces = _arrays.vertices(V), _arrays.faces(F)
     reference = None if relative_to is None else _arrays.vertices(relative_to)

@@ -120,11 +120,13 @@ class NotConvergedError(SolverError):
     found other pairs accurate to a tolerance up to 10⁻⁶ but not to the one asked for (the
     message says which ``|λ|`` and whether they lie below some of ``partial``'s),
     ``accepting_tolerance`` is the tolerance that accepts them, otherwise None.
+    ``stopped_at_time_limit`` is true when ``spectrum(time_limit=...)`` stopped the solver.
     """
 
     partial: Any = None
     wanted: int = 0
     accepting_tolerance: float | None = None
+    stopped_at_time_limit: bool = False
 
 
 class DescriptorError(DiracError, ValueError):
