@@ -59,6 +59,7 @@ fn json_output_is_complete_and_agrees_with_the_library() {
         "eigenvalues",
         "residuals",
         "backward_errors",
+        "backward_error_floor",
         "statistics",
         "timings",
         "converged",

@@ -209,6 +209,7 @@ pub fn spectrum_dict<'py>(
         "backward_errors",
         PyArray1::from_slice(py, &spectrum.backward_errors),
     )?;
+    dict.set_item("backward_error_floor", spectrum.backward_error_floor)?;
     let eigenvectors = with_eigenvectors
         .then(|| eigenvector_array(py, &spectrum.eigenvectors, spectrum.masses.len()));
     dict.set_item("eigenvectors", eigenvectors)?;

@@ -231,5 +231,6 @@ def test_backward_errors_are_the_normwise_backward_errors_of_the_pencil(bumpy_sp
     # package's agree to a few digits; below rounding level both are at the floor.
     np.testing.assert_allclose(result.backward_errors, expected, rtol=0.05, atol=1e-14)
     # The convergence rule of docs/MATH.md holds for every returned pair.
-    passed = (result.residuals <= 100 * 1e-10) | (result.backward_errors <= 1e3 * np.finfo(float).eps)
+    assert result.backward_error_floor == 1e3 * np.finfo(float).eps
+    passed = (result.residuals <= 100 * 1e-10) | (result.backward_errors <= result.backward_error_floor)
     assert passed.all(), (result.residuals, result.backward_errors)

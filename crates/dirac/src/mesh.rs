@@ -539,6 +539,30 @@ impl TriMesh {
         self.faces.len()
     }
 
+    /// The rounding of the stored coordinates when they are single-precision floats (every
+    /// coordinate exactly a 32-bit float, as STL files and most binary PLY files store them,
+    /// and some using more than 16 significant bits: a grid of exact small binary fractions,
+    /// as generators make, is not rounded data): half a unit in the last place at the largest
+    /// coordinate, `2⁻²⁴ max |x|`. `None` for coordinates of double precision, whose rounding
+    /// the tolerances already allow for.
+    pub fn single_precision_rounding(&self) -> Option<f64> {
+        let single = |x: f64| f64::from(x as f32) == x;
+        // Significant bits of a normal number: 53 less the trailing zeros of its significand.
+        let significant_bits = |x: f64| {
+            let significand = (x.to_bits() & ((1 << 52) - 1)) | (1 << 52);
+            53 - significand.trailing_zeros()
+        };
+        let coordinates = self.positions.iter().flatten();
+        let rounded = coordinates.clone().all(|&x| single(x))
+            && coordinates
+                .clone()
+                .any(|&x| x != 0.0 && significant_bits(x) > 16);
+        rounded.then(|| {
+            let largest = coordinates.fold(0.0, |m: f64, x| m.max(x.abs()));
+            largest * f64::from(f32::EPSILON) / 2.0
+        })
+    }
+
     /// Area of face `t`, `|(f_j − f_i) × (f_k − f_i)| / 2`.
     pub fn face_area(&self, t: usize) -> f64 {
         let [i, j, k] = self.faces[t];

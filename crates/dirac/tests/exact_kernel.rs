@@ -145,6 +145,76 @@ fn rotated(mesh: &TriMesh) -> TriMesh {
         .unwrap()
 }
 
+/// A cube of side 46 with faces of `n × n` grids, rotated and moved to `offset` as CAD models
+/// sit, and the same with every coordinate rounded to a 32-bit float, as an STL or binary PLY
+/// file stores it.
+fn cube_in_two_precisions(n: usize, offset: f64) -> (TriMesh, TriMesh) {
+    let double = subdivided_cube(n)
+        .unwrap()
+        .scaled(23.0)
+        .unwrap()
+        .rotated(Quat::new(0.9, 0.3, -0.2, 0.25).normalize())
+        .unwrap()
+        .translated([offset, -offset, 0.5 * offset])
+        .unwrap();
+    let single = double
+        .map_positions(|p| p.map(|x| f64::from(x as f32)))
+        .unwrap();
+    (double, single)
+}
+
+#[test]
+fn a_cube_stored_in_single_precision_has_the_kernel_and_spectrum_of_the_exact_one() {
+    for (n, offset) in [(5, 0.0), (5, 80.0), (5, 1000.0)] {
+        let (double, single) = cube_in_two_precisions(n, offset);
+        assert_eq!(double.single_precision_rounding(), None);
+        let rounding = single.single_precision_rounding().unwrap();
+        let largest = single
+            .positions()
+            .iter()
+            .flatten()
+            .fold(0.0, |m: f64, x| m.max(x.abs()));
+        assert_eq!(rounding, largest * 2f64.powi(-24));
+        // The independent reference, on the rounded positions: numerical kernel, dense solve.
+        let (kernel, reference) = dense_reference(&single);
+        for operator in [Operator::RelativeDirac, Operator::Squared] {
+            let options = SpectrumOptions::new(operator, 6);
+            let exact = spectrum(&double, &options).unwrap();
+            let rounded = spectrum(&single, &options)
+                .unwrap_or_else(|e| panic!("n = {n}, offset {offset}, {operator:?}: {e}"));
+            let what = format!("n = {n}, offset {offset}, {operator:?}");
+            assert_eq!(rounded.kernel.dimension, exact.kernel.dimension, "{what}");
+            assert_eq!(
+                exact.backward_error_floor,
+                dirac::spectrum::ROUNDING_BACKWARD_ERROR
+            );
+            // The floor is what rounding the positions changes in the matrices: about
+            // `2⁻²⁴ |x| / h` (`10⁻⁵` at offset 1000), far above double precision's.
+            assert!(
+                rounded.backward_error_floor > 1e3 * exact.backward_error_floor
+                    && rounded.backward_error_floor < 1e-4,
+                "{what}: floor {}",
+                rounded.backward_error_floor
+            );
+            for (&got, &want) in rounded.eigenvalues.iter().zip(&exact.eigenvalues) {
+                assert!(
+                    (got - want).abs() <= 1e-5 * want.abs(),
+                    "{what}: {got} against {want}"
+                );
+            }
+            if operator == Operator::RelativeDirac {
+                assert_eq!(rounded.kernel.dimension, kernel, "{what}");
+                for (&got, &want) in rounded.eigenvalues.iter().zip(&reference) {
+                    assert!(
+                        (got - want).abs() <= 1e-6 * want.abs(),
+                        "{what}: {got} against dense {want}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn cube_kernel_and_spectrum_match_the_dense_reference() {
     for n in [4, 5] {

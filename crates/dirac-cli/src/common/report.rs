@@ -48,6 +48,9 @@ pub struct Report {
     pub residuals: Vec<f64>,
     /// Normwise backward error of each eigenpair (`dirac::spectrum::Spectrum::backward_errors`).
     pub backward_errors: Vec<f64>,
+    /// The backward error at which a pair counts as converged whatever its relative residual
+    /// (`dirac::spectrum::Spectrum::backward_error_floor`).
+    pub backward_error_floor: f64,
     /// Quaternionic dimension of the operator's exactly known kernel (eigenvalue 0).
     pub kernel_dimension: usize,
     /// How the kernel was found.
@@ -227,6 +230,7 @@ impl Report {
             eigenvalues: Vec::new(),
             residuals: Vec::new(),
             backward_errors: Vec::new(),
+            backward_error_floor: dirac::spectrum::ROUNDING_BACKWARD_ERROR,
             kernel_dimension: 0,
             kernel: KernelReport::default(),
             statistics: StatisticsReport::default(),
@@ -243,6 +247,7 @@ impl Report {
         self.eigenvalues.clone_from(&spectrum.eigenvalues);
         self.residuals.clone_from(&spectrum.residuals);
         self.backward_errors.clone_from(&spectrum.backward_errors);
+        self.backward_error_floor = spectrum.backward_error_floor;
         self.kernel_dimension = spectrum.kernel.dimension;
         self.kernel = KernelReport {
             flat_vertices: spectrum.kernel.flat_vertices,

@@ -51,8 +51,12 @@ class Spectrum:
             of each pair, with ``‖X‖ = max_p Σ_q |X_pq| / √(mass[p] mass[q])``: the smallest
             relative change of ``P`` and ``Q`` for which the pair is exact. A pair is converged
             when its residual is at most 100 × the tolerance or its backward error at most
-            ``1000 ε`` (as accurate as double precision allows: an ill-conditioned eigenvalue can
-            have a large relative residual and still be at that floor).
+            ``backward_error_floor`` (as accurate as double precision, or the data, allows: an
+            ill-conditioned eigenvalue can have a large relative residual and still be at that
+            floor).
+        backward_error_floor: ``1000 ε``, or for positions stored in single precision (every
+            coordinate exactly a 32-bit float) the relative change of ``P`` and ``Q`` that their
+            rounding alone makes, if larger: the matrices are known no better.
         converged: ``(k,)`` whether each pair passed the convergence test (always true: pairs that
             do not are not returned; see ``NotConvergedError``).
         kernel_dimension: quaternionic dimension of the exactly known kernel (eigenvalue 0).
@@ -88,6 +92,7 @@ class Spectrum:
     operator: str = "relative-dirac"
     tau: float | None = None
     anisotropy: float | None = None
+    backward_error_floor: float = 1000 * float(np.finfo(float).eps)
 
     @property
     def k(self) -> int:
@@ -160,6 +165,7 @@ def _spectrum(raw: dict, request: _Request) -> Spectrum:
         eigenvectors=raw["eigenvectors"],
         residuals=raw["residuals"],
         backward_errors=raw["backward_errors"],
+        backward_error_floor=raw["backward_error_floor"],
         converged=np.ones(len(raw["eigenvalues"]), dtype=bool),
         kernel_dimension=raw["kernel_dimension"],
         kernel_flat_vertices=raw["kernel_flat_vertices"],

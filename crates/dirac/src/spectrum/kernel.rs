@@ -141,13 +141,16 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
     /// the first-order operator vanishes (all `false` for operators without one), the `pieces`
     /// whose constants are candidate modes (those of the first-order operator's structure, or
     /// [`pieces`]), and candidate linear modes (each on one piece, ascending rows), each kept if
-    /// `P` annihilates it.
+    /// `P` annihilates it. `stiffness` and `coupling` are the matrices solved; `zeroed` is what
+    /// setting the rows of flat faces to zero removed from the coupling (assembled minus
+    /// solved), when it did ([`kernel_mode`]).
     pub fn find(
         mesh: &TriMesh,
         flat: &[bool],
         mut pieces: DisjointSets,
         stiffness: &SparseMatrix<T>,
         coupling: &SparseMatrix<T>,
+        zeroed: Option<&SparseMatrix<T>>,
         linear: Vec<SparseVector<T>>,
         mut ruled: HashMap<usize, Vec<PinnedVector<T>>>,
     ) -> Self {
@@ -169,6 +172,11 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             }
         }
         let mut accumulator = Accumulator::new(n);
+        let matrices = ModeMatrices {
+            stiffness,
+            coupling,
+            zeroed,
+        };
         let mut modes = Vec::new();
         for (root, vertices) in members.into_iter().enumerate() {
             let Some(&first) = vertices.first() else {
@@ -177,7 +185,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             if let Some(basis) = ruled.remove(&root) {
                 modes.extend(basis.into_iter().filter_map(|b| {
                     let kind = ModeKind::Ruling;
-                    kernel_mode(&mut accumulator, kind, b.vector, b.pin, stiffness, coupling)
+                    kernel_mode(&mut accumulator, kind, b.vector, b.pin, matrices)
                 }));
                 continue;
             }
@@ -190,8 +198,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
                 ModeKind::Constant,
                 vector,
                 first,
-                stiffness,
-                coupling,
+                matrices,
             ) else {
                 continue;
             };
@@ -203,14 +210,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
                     .filter(|(_, v)| (**v - base).abs() > 0.0)?
                     .0;
                 let pin = *pin;
-                kernel_mode(
-                    &mut accumulator,
-                    ModeKind::Linear,
-                    k,
-                    pin,
-                    stiffness,
-                    coupling,
-                )
+                kernel_mode(&mut accumulator, ModeKind::Linear, k, pin, matrices)
             });
             // Against `G = sym(Bᵀ M_F D)` a linear mode is free or orthogonal (`k* G k = 0` for
             // every kernel vector of `D`), so the pinned form never compresses two modes of one
@@ -399,24 +399,47 @@ impl<T: Scalar<Real = f64>> Accumulator<T> {
     }
 }
 
+/// The matrices a mode is judged by: the pencil solved, and what setting the rows of flat
+/// faces to zero removed from its coupling.
+#[derive(Clone, Copy)]
+struct ModeMatrices<'a, T> {
+    stiffness: &'a SparseMatrix<T>,
+    coupling: &'a SparseMatrix<T>,
+    zeroed: Option<&'a SparseMatrix<T>>,
+}
+
 /// The mode `k` pinned at `pin` if the stiffness annihilates it, with its [`Coupling`].
+///
+/// The image `g = Q k` counts as zero (and `k* g` likewise) within rounding of the scale of
+/// `Q k`, plus the scale `Σ_j |k_j| Σ_i |ΔQ_ij|` of what zeroing the rows of flat faces
+/// removed from `Q` (`ΔQ`). That much image the zeroing alone can leave: on a closed piece
+/// `Q 𝟙 = 0` as assembled (the normal differences around each vertex sum to zero), and the
+/// zeroed rows take their terms out of those sums, so `|g_p| ≤ Σ_q |ΔQ_pq|`. The rows held
+/// normal differences within the flat tolerance, zero on exactly flat faces but the noise of
+/// the positions on a mesh stored in single precision (`~10⁻⁷`): an image of that size is
+/// the zeroing's, not a coupling. Taken for one, it made the pinned form divide by it
+/// (`c = (g* r)/(λ |g|²)`) and return pairs that missed the operator by relative residuals
+/// near 1 (a rotated cube of flat grids rounded to 32 bits).
 fn kernel_mode<T: Scalar<Real = f64>>(
     accumulator: &mut Accumulator<T>,
     kind: ModeKind,
     vector: SparseVector<T>,
     pin: usize,
-    stiffness: &SparseMatrix<T>,
-    coupling: &SparseMatrix<T>,
+    matrices: ModeMatrices<'_, T>,
 ) -> Option<KernelMode<T>> {
-    let residue = accumulator.image(stiffness, &vector);
-    if l1(&residue) > MODE_TOLERANCE * column_mass(stiffness, &vector) {
+    let residue = accumulator.image(matrices.stiffness, &vector);
+    if l1(&residue) > MODE_TOLERANCE * column_mass(matrices.stiffness, &vector) {
         return None;
     }
-    let image = accumulator.image(coupling, &vector);
-    let reference = MODE_TOLERANCE * column_mass(coupling, &vector);
-    let coupling = if l1(&image) <= reference {
+    let image = accumulator.image(matrices.coupling, &vector);
+    let zeroed = matrices
+        .zeroed
+        .map_or(0.0, |zeroed| column_mass(zeroed, &vector));
+    let reference = MODE_TOLERANCE * column_mass(matrices.coupling, &vector);
+    let largest = vector.values.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let coupling = if l1(&image) <= reference + zeroed {
         Coupling::Free
-    } else if vector.inner_sparse(&image).abs() <= reference {
+    } else if vector.inner_sparse(&image).abs() <= reference + largest * zeroed {
         Coupling::Orthogonal
     } else {
         Coupling::Oblique
@@ -507,13 +530,64 @@ impl Reduction {
     }
 }
 
-/// The flatness `max |N_a − N_b| · L / |f_a − f_b|` over the edges of a face, `L = √area`:
-/// a dimensionless bound on its discrete curvature, which the flat tolerance bounds.
-fn face_flatness(mesh: &TriMesh, normals: &[[f64; 3]], length: f64, [i, j, k]: [usize; 3]) -> f64 {
+/// The flatness `max (|N_a − N_b| − ν_a − ν_b)⁺ · L / |f_a − f_b|` over the edges of a face,
+/// `L = √area`: a dimensionless bound on its discrete curvature, which the flat tolerance
+/// bounds, beyond the noise `ν` the rounding of the positions puts into the normals
+/// ([`NormalNoise`]).
+fn face_flatness(
+    mesh: &TriMesh,
+    normals: &[[f64; 3]],
+    noise: &NormalNoise,
+    length: f64,
+    [i, j, k]: [usize; 3],
+) -> f64 {
     let p = mesh.positions();
-    let edge =
-        |a: usize, b: usize| length * norm(sub(normals[a], normals[b])) / norm(sub(p[a], p[b]));
+    let edge = |a: usize, b: usize| {
+        let difference = norm(sub(normals[a], normals[b])) - noise.at(a) - noise.at(b);
+        length * difference.max(0.0) / norm(sub(p[a], p[b]))
+    };
     edge(i, j).max(edge(j, k)).max(edge(k, i))
+}
+
+/// How far the rounding of the stored positions can move each vertex normal, for a mesh stored
+/// in single precision ([`TriMesh::single_precision_rounding`]; nothing otherwise).
+///
+/// A face's normal moves by about `δ / h` when its corners move by `δ` (`h` its smallest
+/// height), and an area-weighted vertex normal by no more than the normals of its faces:
+/// `ν_a = 2 δ / min h` over the faces around `a`. On a model away from the origin this is far
+/// above the flat tolerance's `T |f_a − f_b| / L`: pyvista's `nut.ply` (coordinates near 100,
+/// edges near 4) has faces flat to `10⁻⁶` in their normals that measured `1–4 · 10⁻⁵` against
+/// the default `10⁻⁵`, and each left a vertex that `P` annihilates to `10⁻¹⁴` in the problem.
+pub(super) struct NormalNoise(Vec<f64>);
+
+impl NormalNoise {
+    pub(super) fn of(mesh: &TriMesh) -> Self {
+        let Some(rounding) = mesh.single_precision_rounding() else {
+            return Self(Vec::new());
+        };
+        let p = mesh.positions();
+        let mut smallest_height = vec![f64::INFINITY; mesh.vertex_count()];
+        for (t, &[i, j, k]) in mesh.faces().iter().enumerate() {
+            let longest = norm(sub(p[i], p[j]))
+                .max(norm(sub(p[j], p[k])))
+                .max(norm(sub(p[k], p[i])));
+            let height = 2.0 * mesh.face_area(t) / longest;
+            for v in [i, j, k] {
+                smallest_height[v] = smallest_height[v].min(height);
+            }
+        }
+        Self(
+            smallest_height
+                .into_iter()
+                .map(|h| 2.0 * rounding / h)
+                .collect(),
+        )
+    }
+
+    /// `ν_a` (zero for a mesh of double precision).
+    fn at(&self, vertex: usize) -> f64 {
+        self.0.get(vertex).copied().unwrap_or(0.0)
+    }
 }
 
 /// `√(total area)`.
@@ -525,8 +599,9 @@ pub(super) fn length_scale(mesh: &TriMesh) -> f64 {
 }
 
 /// Faces whose Gauss map is flat within `tolerance` (their [`face_flatness`] is at most it:
-/// along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L`, so a sliver face is flat only
-/// if its normals agree to the scale of its short edge) and, with a potential, whose corners
+/// along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L` beyond the noise of positions
+/// stored in single precision, so a sliver face is flat only if its normals agree to the scale
+/// of its short edge) and, with a potential, whose corners
 /// all have `U = 0`. The row of `D_N` of such a face, `−(N_r − N_q)/(2A_t)`, is negligible
 /// against that of `D_f` divided by `L`.
 pub(super) fn flat_faces(
@@ -536,10 +611,11 @@ pub(super) fn flat_faces(
     tolerance: f64,
 ) -> Vec<bool> {
     let length = length_scale(mesh);
+    let noise = NormalNoise::of(mesh);
     mesh.faces()
         .iter()
         .map(|&face| {
-            face_flatness(mesh, normals, length, face) <= tolerance
+            face_flatness(mesh, normals, &noise, length, face) <= tolerance
                 && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
         })
         .collect()
@@ -574,9 +650,10 @@ pub(super) const NEARLY_FLAT: f64 = 1e-2;
 /// tolerance above that would flatten the bump too.
 pub(super) fn flatness_around(mesh: &TriMesh, normals: &[[f64; 3]], vertex: usize) -> f64 {
     let length = length_scale(mesh);
+    let noise = NormalNoise::of(mesh);
     let around: Vec<f64> = (mesh.faces().iter())
         .filter(|face| face.contains(&vertex))
-        .map(|&face| face_flatness(mesh, normals, length, face))
+        .map(|&face| face_flatness(mesh, normals, &noise, length, face))
         .collect();
     let nearly_flat = around.iter().copied().filter(|&s| s <= NEARLY_FLAT);
     match nearly_flat.reduce(f64::max) {

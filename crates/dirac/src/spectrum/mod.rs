@@ -643,6 +643,12 @@ pub struct Spectrum {
     pub masses: Vec<f64>,
     /// The exactly known kernel: its dimension and how it was found.
     pub kernel: KernelSummary,
+    /// The backward error at which a pair counts as converged whatever its relative residual:
+    /// [`ROUNDING_BACKWARD_ERROR`], or, for positions stored in single precision
+    /// ([`TriMesh::single_precision_rounding`]), the relative change of `P` and `Q` that the
+    /// rounding of the positions alone makes, if larger (measured by assembling them again at
+    /// positions moved by up to that rounding; docs/MATH.md, "Coordinates in single precision").
+    pub backward_error_floor: f64,
 }
 
 /// The second surface `f2` of a first-order operator `D_{f,f2}`, as an error names it.
@@ -1234,18 +1240,53 @@ fn compute(
     progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
     validate(mesh, options)?;
+    let stored = mesh;
     let Assembled {
         scale,
         mesh,
         pencil,
     } = assemble(mesh, reference, options)?;
     let mesh = mesh.as_ref();
+    let floor = data_floor(stored, reference, options, &pencil, mesh)?.max(ROUNDING_BACKWARD_ERROR);
     match (pencil, options.backend) {
         (OperatorPencil::Real(spec), SolverBackend::Native) => {
-            solve_pencil(spec, mesh, scale, options, progress)
+            solve_pencil(spec, mesh, scale, floor, options, progress)
         }
-        (pencil, _) => solve_pencil(pencil.into_quaternionic(), mesh, scale, options, progress),
+        (pencil, _) => {
+            let spec = pencil.into_quaternionic();
+            solve_pencil(spec, mesh, scale, floor, options, progress)
+        }
     }
+}
+
+/// For positions stored in single precision, the relative change of the operator's matrices
+/// that their rounding alone makes: `max(‖P' − P‖ / ‖P‖, ‖Q' − Q‖ / ‖Q‖)` in the norms of the
+/// backward error, `P'`, `Q'` assembled again at positions each moved by a seeded random
+/// amount up to its rounding (`2⁻²⁴ |x|`). The matrices are known no better than that, so a
+/// pair exact for a change that small is as accurate as the data (docs/MATH.md, "Coordinates
+/// in single precision"). `0` for positions of double precision, or if the moved mesh is
+/// invalid.
+fn data_floor(
+    stored: &TriMesh,
+    reference: Option<&TriMesh>,
+    options: &SpectrumOptions,
+    pencil: &OperatorPencil,
+    solved: &TriMesh,
+) -> Result<f64, SpectrumError> {
+    if stored.single_precision_rounding().is_none() {
+        return Ok(0.0);
+    }
+    let mut random = qscalar::random::SplitMix64::new(options.seed);
+    let relative = f64::from(f32::EPSILON) / 2.0;
+    let Ok(moved) =
+        stored.map_positions(|p| p.map(|x| x + x * relative * random.uniform(-1.0, 1.0)))
+    else {
+        return Ok(0.0);
+    };
+    let Ok(again) = assemble(&moved, reference, options) else {
+        return Ok(0.0);
+    };
+    pencil.relative_change(&again.pencil, &barycentric_masses(solved))
 }
 
 /// The spectrum of the pencil `spec` over its scalar `T` on `mesh` (as solved, positions
@@ -1254,6 +1295,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
     mut spec: PencilSpec<T>,
     mesh: &TriMesh,
     scale: f64,
+    floor: f64,
     options: &SpectrumOptions,
     mut progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
@@ -1285,12 +1327,14 @@ fn solve_pencil<T: Scalar<Real = f64>>(
         Some(k) => (k.pieces, k.linear, k.ruled),
         None => (kernel::pieces(mesh, &spec.flat), Vec::new(), HashMap::new()),
     };
+    let zeroed = spec.zeroed_coupling()?;
     let kernel = ExactKernel::find(
         mesh,
         &spec.flat,
         pieces,
         &spec.solved().stiffness,
         &spec.solved().coupling,
+        zeroed.as_ref(),
         linear,
         ruled,
     );
@@ -1309,6 +1353,7 @@ fn solve_pencil<T: Scalar<Real = f64>>(
             &masses,
             options,
             scale,
+            floor,
             kernel.summary(),
         )
     };
@@ -1522,6 +1567,7 @@ fn finish<T: Scalar<Real = f64>>(
     masses: &[f64],
     options: &SpectrumOptions,
     scale: f64,
+    floor: f64,
     kernel: KernelSummary,
 ) -> Result<Spectrum, SpectrumError> {
     let values = &pairs.values;
@@ -1543,11 +1589,11 @@ fn finish<T: Scalar<Real = f64>>(
     let each = eigenvalues.iter().zip(&eigenvectors).collect();
     let measured: Vec<Residual> =
         threads::map_on_two_threads(each, |(&lambda, x): (&f64, &Vec<T>)| {
-            Residual::of(operator, norms, masses, lambda, x)
+            Residual::of(operator, norms, masses, lambda, x, floor)
         });
     let converged: Vec<bool> = measured
         .iter()
-        .map(|r| r.is_converged(options.tolerance))
+        .map(|r| r.is_converged(options.tolerance, floor))
         .collect();
     let unaccepted = Unaccepted::of(&eigenvalues, &measured, &converged);
     let residuals = measured.iter().map(|r| r.relative).collect();
@@ -1563,6 +1609,7 @@ fn finish<T: Scalar<Real = f64>>(
         scale,
         masses: masses.to_vec(),
         kernel,
+        backward_error_floor: floor,
     };
     if all {
         Ok(spectrum)
@@ -1611,8 +1658,8 @@ struct Residual {
     /// The normwise backward error `‖P x − λ Q x‖ / ((‖P‖ + |λ| ‖Q‖) ‖x‖_M)`: the smallest
     /// relative change of `P` and `Q` for which the pair is exact.
     backward_error: f64,
-    /// `|λ| ‖Q‖ ‖P‖⁻¹` is beyond `1/`[`ROUNDING_BACKWARD_ERROR`]: every `x` with `Q x` at
-    /// rounding level has a backward error at the floor, so it says nothing (an eigenvalue at
+    /// `|λ| ‖Q‖ ‖P‖⁻¹` is beyond the inverse of the backward-error floor: every `x` with `Q x`
+    /// at that level has a backward error at the floor, so it says nothing (an eigenvalue at
     /// infinity, as where `Q` vanishes on the complement of the kernel of `P`).
     beyond_floor: bool,
 }
@@ -1628,21 +1675,23 @@ pub const CONVERGED_RESIDUAL_FACTOR: f64 = 100.0;
 
 impl Residual {
     /// Converged: relative residual at most [`CONVERGED_RESIDUAL_FACTOR`]` · tolerance`, or
-    /// backward error at most [`ROUNDING_BACKWARD_ERROR`] (at the rounding floor) for an
-    /// eigenvalue that is not beyond the floor itself.
-    fn is_converged(&self, tolerance: f64) -> bool {
+    /// backward error at most `floor` ([`Spectrum::backward_error_floor`]: the rounding floor,
+    /// or the precision of positions stored in single precision) for an eigenvalue that is
+    /// not beyond the floor itself.
+    fn is_converged(&self, tolerance: f64, floor: f64) -> bool {
         self.relative <= CONVERGED_RESIDUAL_FACTOR * tolerance
-            || (self.backward_error <= ROUNDING_BACKWARD_ERROR && !self.beyond_floor)
+            || (self.backward_error <= floor && !self.beyond_floor)
     }
 
     /// The residual of the operator's own eigenproblem (matrices as assembled), with
-    /// `norms = (‖P‖, ‖Q‖)` from [`scaled_norm`].
+    /// `norms = (‖P‖, ‖Q‖)` from [`scaled_norm`] and the backward-error `floor`.
     fn of<T: Scalar<Real = f64>>(
         m: &Matrices<T>,
         norms: (f64, f64),
         masses: &[f64],
         lambda: f64,
         x: &[T],
+        floor: f64,
     ) -> Self {
         let dual = |r: &[T]| -> f64 {
             r.iter()
@@ -1673,7 +1722,7 @@ impl Residual {
         Self {
             relative,
             backward_error: ratio((norms.0 + lambda.abs() * norms.1) * x_norm),
-            beyond_floor: lambda.abs() * norms.1 * ROUNDING_BACKWARD_ERROR > norms.0,
+            beyond_floor: lambda.abs() * norms.1 * floor > norms.0,
         }
     }
 }

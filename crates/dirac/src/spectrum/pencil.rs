@@ -59,6 +59,27 @@ pub(super) struct Matrices<T> {
     pub coupling: SparseMatrix<T>,
 }
 
+impl<T: Scalar<Real = f64>> Matrices<T> {
+    /// `max(‖P' − P‖ / ‖P‖, ‖Q' − Q‖ / ‖Q‖)` for `other = (P', Q')`, in the norm of
+    /// [`super::scaled_norm`].
+    fn relative_change(&self, other: &Self, masses: &[f64]) -> Result<f64, SpectrumError> {
+        let change = |a: &SparseMatrix<T>, b: &SparseMatrix<T>| {
+            let difference = SparseMatrix::linear_combination(T::one(), b, T::from_real(-1.0), a)
+                .map_err(|e| SpectrumError::Operator(e.into()))?;
+            let size = super::scaled_norm(a, masses);
+            Ok::<f64, SpectrumError>(if size > 0.0 {
+                super::scaled_norm(&difference, masses) / size
+            } else {
+                0.0
+            })
+        };
+        Ok(
+            change(&self.stiffness, &other.stiffness)?
+                .max(change(&self.coupling, &other.coupling)?),
+        )
+    }
+}
+
 impl Matrices<f64> {
     /// `P⊗I` and `Q⊗I` over the quaternions.
     fn lifted(&self) -> Matrices<Quat<f64>> {
@@ -107,6 +128,20 @@ pub(super) enum OperatorPencil {
 }
 
 impl OperatorPencil {
+    /// `max(‖P' − P‖ / ‖P‖, ‖Q' − Q‖ / ‖Q‖)` between the matrices as assembled of this pencil
+    /// and `other` (the same operator on moved positions), in the norm
+    /// `max_p Σ_q |X_pq| / √(Ā_p Ā_q)` of the backward error.
+    pub fn relative_change(&self, other: &Self, masses: &[f64]) -> Result<f64, SpectrumError> {
+        match (self, other) {
+            (Self::Real(a), Self::Real(b)) => a.operator.relative_change(&b.operator, masses),
+            (Self::Quaternionic(a), Self::Quaternionic(b)) => {
+                a.operator.relative_change(&b.operator, masses)
+            }
+            // The same operator assembles to the same kind of pencil.
+            _ => Ok(0.0),
+        }
+    }
+
     /// The pencil of `operator` on `mesh` with an optional well potential; faces whose corner
     /// normals agree within `flat_tolerance` are flat. With a `reference` surface `f2` (one
     /// point per vertex), the operators built on `D_N = D_{f,N}` are built on `D_{f,f2}`
@@ -226,6 +261,23 @@ impl<T: Scalar<Real = f64>> PencilSpec<T> {
     /// The matrices that are solved.
     pub fn solved(&self) -> &Matrices<T> {
         self.exact.as_ref().unwrap_or(&self.operator)
+    }
+
+    /// What setting the rows of flat faces to zero removed from the coupling (assembled minus
+    /// solved), if it removed anything.
+    pub fn zeroed_coupling(&self) -> Result<Option<SparseMatrix<T>>, SpectrumError> {
+        let Some(exact) = &self.exact else {
+            return Ok(None);
+        };
+        let minus_one = T::from_real(-1.0);
+        SparseMatrix::linear_combination(
+            T::one(),
+            &self.operator.coupling,
+            minus_one,
+            &exact.coupling,
+        )
+        .map(Some)
+        .map_err(|e| SpectrumError::Operator(e.into()))
     }
 }
 
