@@ -576,10 +576,10 @@ const NOISE_STRETCH: f64 = 4.0;
 /// above the flat tolerance's `T |f_a − f_b| / L`: pyvista's `nut.ply` (coordinates near 100,
 /// edges near 4) has faces flat to `10⁻⁶` in their normals that measured `1–4 · 10⁻⁵` against
 /// the default `10⁻⁵`, and each left a vertex that `P` annihilates to `10⁻¹⁴` in the problem.
-pub(super) struct NormalNoise(Vec<f64>);
+struct NormalNoise(Vec<f64>);
 
 impl NormalNoise {
-    pub(super) fn of(mesh: &TriMesh) -> Self {
+    fn of(mesh: &TriMesh) -> Self {
         let Some(rounding) = mesh.single_precision_rounding() else {
             return Self(Vec::new());
         };

@@ -1327,14 +1327,15 @@ fn solve_pencil<T: Scalar<Real = f64>>(
         Some(k) => (k.pieces, k.linear, k.ruled),
         None => (kernel::pieces(mesh, &spec.flat), Vec::new(), HashMap::new()),
     };
-    let zeroed = spec.zeroed_coupling()?;
+    // The zeroed part of the coupling (as large as the coupling) only judges the modes: it is
+    // dropped before the solve.
     let kernel = ExactKernel::find(
         mesh,
         &spec.flat,
         pieces,
         &spec.solved().stiffness,
         &spec.solved().coupling,
-        zeroed.as_ref(),
+        spec.zeroed_coupling()?.as_ref(),
         linear,
         ruled,
     );

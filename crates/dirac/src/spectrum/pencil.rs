@@ -64,11 +64,9 @@ impl<T: Scalar<Real = f64>> Matrices<T> {
     /// [`super::scaled_norm`].
     fn relative_change(&self, other: &Self, masses: &[f64]) -> Result<f64, SpectrumError> {
         let change = |a: &SparseMatrix<T>, b: &SparseMatrix<T>| {
-            let difference = SparseMatrix::linear_combination(T::one(), b, T::from_real(-1.0), a)
-                .map_err(|e| SpectrumError::Operator(e.into()))?;
             let size = super::scaled_norm(a, masses);
             Ok::<f64, SpectrumError>(if size > 0.0 {
-                super::scaled_norm(&difference, masses) / size
+                super::scaled_norm(&difference(b, a)?, masses) / size
             } else {
                 0.0
             })
@@ -266,18 +264,9 @@ impl<T: Scalar<Real = f64>> PencilSpec<T> {
     /// What setting the rows of flat faces to zero removed from the coupling (assembled minus
     /// solved), if it removed anything.
     pub fn zeroed_coupling(&self) -> Result<Option<SparseMatrix<T>>, SpectrumError> {
-        let Some(exact) = &self.exact else {
-            return Ok(None);
-        };
-        let minus_one = T::from_real(-1.0);
-        SparseMatrix::linear_combination(
-            T::one(),
-            &self.operator.coupling,
-            minus_one,
-            &exact.coupling,
-        )
-        .map(Some)
-        .map_err(|e| SpectrumError::Operator(e.into()))
+        (self.exact.as_ref())
+            .map(|exact| difference(&self.operator.coupling, &exact.coupling))
+            .transpose()
     }
 }
 
@@ -393,6 +382,15 @@ impl FirstOrder {
             form: Form::Pinned,
         }
     }
+}
+
+/// `X − Y`.
+fn difference<T: Scalar<Real = f64>>(
+    x: &SparseMatrix<T>,
+    y: &SparseMatrix<T>,
+) -> Result<SparseMatrix<T>, SpectrumError> {
+    SparseMatrix::linear_combination(T::one(), x, T::from_real(-1.0), y)
+        .map_err(|e| SpectrumError::Operator(e.into()))
 }
 
 /// `τ X + (1 − τ) Y`.
