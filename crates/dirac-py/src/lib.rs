@@ -363,8 +363,9 @@ fn spectrum<'py>(
         })
         .transpose()?;
     let options = request.options(py)?;
-    let deadline =
-        (request.time_limit).map(|limit| Instant::now() + Duration::from_secs_f64(limit));
+    // A limit beyond what a clock can hold is no limit.
+    let deadline = (request.time_limit)
+        .and_then(|limit| Instant::now().checked_add(Duration::try_from_secs_f64(limit).ok()?));
     let (result, stopped) =
         run_reporting(
             py,

@@ -364,7 +364,9 @@ impl Job<'_> {
             slivers,
             ..Row::failed(mesh_path, String::new())
         };
-        let deadline = (self.args.time_limit).map(|limit| start + Duration::from_secs_f64(limit));
+        // A limit beyond what a clock can hold is no limit.
+        let deadline = (self.args.time_limit)
+            .and_then(|limit| start.checked_add(Duration::try_from_secs_f64(limit).ok()?));
         let past_deadline = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
         let stop = || interrupted() || past_deadline();
         match solve_until(&mesh, None, &name, &self.options, true, stop) {
