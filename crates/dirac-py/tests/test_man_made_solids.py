@@ -163,24 +163,30 @@ def test_a_tube_with_nearly_ruled_fillets_names_the_family_as_the_remedy():
 
 
 @pytest.mark.parametrize("offset", [0.0, 80.0])
-def test_a_rotated_cube_stored_in_single_precision_matches_scipy(offset):
+@pytest.mark.parametrize(
+    "half_sides, rtol", [((23.0, 23.0, 23.0), 1e-6), ((23.0, 2.0, 0.75), 1e-4)], ids=["cube", "thin bar"]
+)
+def test_a_rotated_box_stored_in_single_precision_matches_scipy_on_the_exact_box(half_sides, rtol, offset):
     # As an STL or binary PLY file stores a CAD model: away from the origin, every coordinate
     # a 32-bit float. The rounding puts noise of about 2⁻²⁴ |x| / h into the normals, which
     # before made faces that are flat count as curved and the constants of the Dirac pencils
-    # count as coupled; scipy's dense solve of the same matrices finds its kernel numerically
-    # (at offset 1000 its compressed pencil is no longer definite: the Rust tests compare
-    # that case with the cube in double precision).
+    # count as coupled. On the thin bar (cells of 9.2 × 0.3) the noise at the vertices of the
+    # thin sides is up to 15 times the flat tolerance's own term, more than the test of single
+    # faces forgives: its panels are found flat as noisy planes (docs/MATH.md). The reference
+    # is scipy's dense solve of the box in double precision (kernel found numerically): the
+    # rounded positions' own matrices hold the noise, in couplings of the kernel of order 10⁻⁷
+    # that the rounding makes and the solver treats as zero.
     V, F = cube(5)
     c, s = np.cos(0.7), np.sin(0.7)
     rotation = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]) @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
-    V = (46 * V @ rotation.T + offset).astype(np.float32)
-    exact = (46 * cube(5)[0] @ rotation.T + offset).astype(float)
+    exact = (V * half_sides) @ rotation.T + offset
+    rounded = exact.astype(np.float32)
     for operator in ("relative-dirac", "squared"):
-        dimension, reference = dense_reference(V.astype(float), F, operator, None, 1e-11)
-        got = ds.spectrum(V, F, k=8, operator=operator, eigenvectors=False)
-        assert got.kernel_dimension == dimension == ds.spectrum(exact, F, k=1, operator=operator).kernel_dimension
+        dimension, reference = dense_reference(exact, F, operator, None, 1e-11)
+        got = ds.spectrum(rounded, F, k=8, operator=operator, eigenvectors=False)
+        assert got.kernel_dimension == dimension == 25
         theirs = by_magnitude(reference)[::4][: len(got.eigenvalues)]
-        np.testing.assert_allclose(np.abs(got.eigenvalues), np.abs(theirs), rtol=1e-6)
+        np.testing.assert_allclose(np.abs(got.eigenvalues), np.abs(theirs), rtol=rtol)
         # Accepted as accurate as the data: exact for a change of the matrices no larger than
         # what the rounding of the positions makes.
         assert 1e3 * np.finfo(float).eps < got.backward_error_floor < 1e-4

@@ -17,6 +17,11 @@ pub fn bounding_box(points: impl IntoIterator<Item = [f64; 3]>) -> Option<([f64;
     })
 }
 
+/// `a + b`.
+pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
 /// `a − b`.
 pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]

@@ -13,7 +13,8 @@ use qsparse::vector::axpy;
 use qsparse::{DenseMatrix, DisjointSets, SparseVector};
 
 use super::SecondSurface;
-use super::kernel::{PinnedVector, length_scale};
+use super::flatness::length_scale;
+use super::kernel::PinnedVector;
 use crate::TriMesh;
 use crate::geometry::{cross, dot, norm, normalize, sub};
 use crate::phase::{mass_inner, mass_norm};
@@ -93,7 +94,7 @@ struct SecondTriangles<'a> {
     size: f64,
     /// For the Gauss map: the mesh's positions and `flat tolerance / √area`. Two normals
     /// coincide only along an edge that is flat too (`|N_a − N_b| ≤ tolerance · |f_a − f_b| /
-    /// √area`, [`super::kernel::flat_faces`]): with tolerance 0, only exactly equal normals do,
+    /// √area`, [`super::flatness::flat_faces`]): with tolerance 0, only exactly equal normals do,
     /// and normals that differ by noise keep the rows that see it.
     flat_edges: Option<(&'a [[f64; 3]], f64)>,
 }

@@ -3,7 +3,7 @@
 //!
 //! * **Flat vertices.** A face is *flat* when the first-order operator's row of it vanishes:
 //!   for `D_N` its corner normals agree within the flat tolerance relative to its edge lengths
-//!   ([`flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex
+//!   ([`super::flatness::flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex
 //!   all of whose faces are flat has `D δ_p = 0` and `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is
 //!   in `ker P ∩ ker Q` for every quaternion `q`. Every other eigenvector is mass-orthogonal to
 //!   it, which for the diagonal mass means `x_p = 0`: the vertex is removed from the problem.
@@ -22,7 +22,6 @@ use qscalar::Scalar;
 use qsparse::{DisjointSets, Gram, SparseMatrix, SparseVector};
 
 use crate::TriMesh;
-use crate::geometry::{norm, sub};
 
 /// Relative size `Σ|P k| ≤ 10⁻¹⁰ Σ_j |k_j| Σ_i |P_ij|` below which a mode `k` is in the kernel
 /// (and likewise for `Q` in [`Coupling`]); rounding leaves `~10⁻¹⁶`.
@@ -527,149 +526,5 @@ impl Reduction {
             x[p] = v.scale(w);
         }
         x
-    }
-}
-
-/// The flatness `max (|N_a − N_b| − d_ab)⁺ · L / |f_a − f_b|` over the edges of a face,
-/// `L = √area`: a dimensionless bound on its discrete curvature, which the flat tolerance
-/// bounds. `d_ab` discounts the noise that the rounding of positions stored in single
-/// precision puts into the normals, `ν_a + ν_b` ([`NormalNoise`]) but at most
-/// [`NOISE_STRETCH`] times the tolerance's own `T |f_a − f_b| / L` (`noise` gives `ν` and
-/// `T`; none: the flatness as measured).
-fn face_flatness(
-    mesh: &TriMesh,
-    normals: &[[f64; 3]],
-    noise: Option<(&NormalNoise, f64)>,
-    length: f64,
-    [i, j, k]: [usize; 3],
-) -> f64 {
-    let p = mesh.positions();
-    let edge = |a: usize, b: usize| {
-        let span = norm(sub(p[a], p[b]));
-        let discount = noise.map_or(0.0, |(noise, tolerance)| {
-            (noise.at(a) + noise.at(b)).min(NOISE_STRETCH * tolerance * span / length)
-        });
-        let difference = norm(sub(normals[a], normals[b])) - discount;
-        length * difference.max(0.0) / span
-    };
-    edge(i, j).max(edge(j, k)).max(edge(k, i))
-}
-
-/// The most that the noise of single-precision positions may stretch the flat tolerance, as a
-/// multiple of it. The noise is a bound (the normals of four meshes rounded to 32 bits moved by
-/// 1–15 % of it in the median): uncapped, it flattened faces of the fandisk whose curvature
-/// the rounded positions still resolve (relative Dirac's smallest eigenvalue, `1.542 · 10⁻⁴`
-/// rounded or not, became `6.9 · 10⁻³`; with this cap `1.630 · 10⁻⁴`, three more vertices flat,
-/// the faces between `10⁻⁵` and `5 · 10⁻⁵` being borderline for any tolerance); the flat
-/// faces of pyvista's `nut.ply` measure up to 3.9 times the tolerance.
-const NOISE_STRETCH: f64 = 4.0;
-
-/// How far the rounding of the stored positions can move each vertex normal, for a mesh stored
-/// in single precision ([`TriMesh::single_precision_rounding`]; nothing otherwise).
-///
-/// A face's normal moves by about `δ / h` when its corners move by `δ` (`h` its smallest
-/// height), and an area-weighted vertex normal by no more than the normals of its faces:
-/// `ν_a = δ / min h` over the faces around `a` (rounded to 32 bits, the fandisk, the camel
-/// head and a PSB model, also moved by 100 times their size, moved their normals by 0.6–7 %
-/// of it in the median and at most 41 %; twice it flattened more of the fandisk's gently
-/// curved faces than the noise explains). On a model away from the origin this is far
-/// above the flat tolerance's `T |f_a − f_b| / L`: pyvista's `nut.ply` (coordinates near 100,
-/// edges near 4) has faces flat to `10⁻⁶` in their normals that measured `1–4 · 10⁻⁵` against
-/// the default `10⁻⁵`, and each left a vertex that `P` annihilates to `10⁻¹⁴` in the problem.
-struct NormalNoise(Vec<f64>);
-
-impl NormalNoise {
-    fn of(mesh: &TriMesh) -> Self {
-        let Some(rounding) = mesh.single_precision_rounding() else {
-            return Self(Vec::new());
-        };
-        let p = mesh.positions();
-        let mut smallest_height = vec![f64::INFINITY; mesh.vertex_count()];
-        for (t, &[i, j, k]) in mesh.faces().iter().enumerate() {
-            let longest = norm(sub(p[i], p[j]))
-                .max(norm(sub(p[j], p[k])))
-                .max(norm(sub(p[k], p[i])));
-            let height = 2.0 * mesh.face_area(t) / longest;
-            for v in [i, j, k] {
-                smallest_height[v] = smallest_height[v].min(height);
-            }
-        }
-        Self(smallest_height.into_iter().map(|h| rounding / h).collect())
-    }
-
-    /// `ν_a` (zero for a mesh of double precision).
-    fn at(&self, vertex: usize) -> f64 {
-        self.0.get(vertex).copied().unwrap_or(0.0)
-    }
-}
-
-/// `√(total area)`.
-pub(super) fn length_scale(mesh: &TriMesh) -> f64 {
-    (0..mesh.face_count())
-        .map(|t| mesh.face_area(t))
-        .sum::<f64>()
-        .sqrt()
-}
-
-/// Faces whose Gauss map is flat within `tolerance` (their [`face_flatness`] is at most it:
-/// along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L` beyond the noise of positions
-/// stored in single precision, so a sliver face is flat only if its normals agree to the scale
-/// of its short edge) and, with a potential, whose corners
-/// all have `U = 0`. The row of `D_N` of such a face, `−(N_r − N_q)/(2A_t)`, is negligible
-/// against that of `D_f` divided by `L`.
-pub(super) fn flat_faces(
-    mesh: &TriMesh,
-    normals: &[[f64; 3]],
-    potential: Option<&[f64]>,
-    tolerance: f64,
-) -> Vec<bool> {
-    let length = length_scale(mesh);
-    let noise = NormalNoise::of(mesh);
-    mesh.faces()
-        .iter()
-        .map(|&face| {
-            face_flatness(mesh, normals, Some((&noise, tolerance)), length, face) <= tolerance
-                && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
-        })
-        .collect()
-}
-
-/// The faces around flat vertices (vertices all of whose faces are `flat`): the rows of `D_N`
-/// that must vanish exactly for `δ_p` and the constants of the remaining pieces to be exact
-/// kernel vectors. Flat faces elsewhere keep their (tiny) rows: zeroing them would perturb the
-/// operator for nothing.
-pub(super) fn vanishing_faces(mesh: &TriMesh, flat: &[bool]) -> Vec<bool> {
-    let mut all_flat = vec![true; mesh.vertex_count()];
-    for (face, _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
-        face.iter().for_each(|&p| all_flat[p] = false);
-    }
-    mesh.faces()
-        .iter()
-        .map(|face| face.iter().any(|&p| all_flat[p]))
-        .collect()
-}
-
-/// [`face_flatness`] up to which a face where the operator nearly vanishes may sensibly be
-/// treated as flat: a discrete curvature of 1 % of `1/√area`. A flat tolerance above more
-/// curved faces would call the mesh flat where it is not.
-pub(super) const NEARLY_FLAT: f64 = 1e-2;
-
-/// The flatness that explains a near-singularity at `vertex`: the largest [`face_flatness`] of
-/// the nearly flat faces around it (at most [`NEARLY_FLAT`]; a flat tolerance above it makes
-/// them flat), or, when every face around it is more curved, the smallest.
-///
-/// The factorisation fails at the last vertex of the nearly null region it eliminates, often
-/// at its edge: next to a curved bump the largest flatness around it is the bump's, and a
-/// tolerance above that would flatten the bump too.
-pub(super) fn flatness_around(mesh: &TriMesh, normals: &[[f64; 3]], vertex: usize) -> f64 {
-    let length = length_scale(mesh);
-    let around: Vec<f64> = (mesh.faces().iter())
-        .filter(|face| face.contains(&vertex))
-        .map(|&face| face_flatness(mesh, normals, None, length, face))
-        .collect();
-    let nearly_flat = around.iter().copied().filter(|&s| s <= NEARLY_FLAT);
-    match nearly_flat.reduce(f64::max) {
-        Some(largest) => largest,
-        None => around.into_iter().fold(f64::INFINITY, f64::min),
     }
 }

@@ -77,6 +77,7 @@
 //! others tell ([`Unaccepted`]).
 
 mod first_order;
+mod flatness;
 mod kernel;
 mod pencil;
 mod solve;
@@ -93,8 +94,9 @@ use qsparse::{CholeskyError, SparseMatrix, threads, vector};
 use thiserror::Error;
 
 use first_order::Unremoved;
+use flatness::{NEARLY_FLAT, flatness_around};
+use kernel::ExactKernel;
 pub use kernel::KernelSummary;
-use kernel::{ExactKernel, NEARLY_FLAT, flatness_around};
 use pencil::{Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, Solved, products};
 

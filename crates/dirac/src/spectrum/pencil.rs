@@ -8,7 +8,8 @@ use qscalar::{Quat, Scalar};
 use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
 
 use super::first_order::{FirstOrderKernel, first_order_kernel};
-use super::kernel::{Reduction, flat_faces, vanishing_faces};
+use super::flatness::{denoise_gauss_map, flat_faces, vanishing_faces};
+use super::kernel::Reduction;
 use super::{Operator, SecondSurface, SpectrumError};
 use crate::TriMesh;
 use crate::anisotropic::anisotropic_laplacian;
@@ -302,8 +303,9 @@ impl FirstOrder {
         let mut normals = None;
         let (f2, surface): (&[[f64; 3]], _) = match second {
             SecondImmersion::GaussMap => {
-                let gauss_map = vertex_normals(mesh)
+                let mut gauss_map = vertex_normals(mesh)
                     .map_err(|vertex| OperatorError::DegenerateNormal { vertex })?;
+                denoise_gauss_map(mesh, &mut gauss_map, flat_tolerance);
                 (
                     normals.insert(gauss_map).as_slice(),
                     SecondSurface::GaussMap,
