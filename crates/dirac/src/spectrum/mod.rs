@@ -1067,33 +1067,41 @@ fn nearly_singular_message(
              faces with --repair"
         );
     }
-    let how = flatness.map_or(String::new(), |s| {
-        if s > NEARLY_FLAT {
+    const FAMILY: &str = "use --operator family:T (0 < T < 1)";
+    let (how, remedy) = match flatness {
+        Some(s) if s > NEARLY_FLAT => (
             format!(
                 " (every face around it has flatness {s:.1e} or more, |N_a − N_b| √area / \
                  |f_a − f_b|: curved, not nearly flat)"
-            )
-        } else {
+            ),
+            format!(
+                "a flat tolerance would not help: D_N nearly vanishes on functions constant \
+                 along straight lines of the surface (developable parts such as thin cylinders \
+                 and cones); {FAMILY}"
+            ),
+        ),
+        Some(s) if s > tolerance => (
             format!(
                 " (its nearly flat faces have flatness up to {s:.1e}, |N_a − N_b| √area / \
                  |f_a − f_b|, above the flat tolerance {tolerance:.0e})"
-            )
+            ),
+            format!(
+                "treat such faces as flat with --flat-tolerance {:.0e}, or {FAMILY}",
+                10f64.powf((10.0 * s).log10().ceil())
+            ),
+        ),
+        Some(_) => {
+            return format!(
+                "the operator is numerically singular{place} (the nearly flat faces around it \
+                 are flat already, within the flat tolerance {tolerance:.0e}): it vanishes \
+                 there, or nearly, on functions that the exact kernel does not remove (on an \
+                 open mesh, a corner that belongs to a single boundary face leaves that face's \
+                 row free, and thin strips have fewer rows than unknowns); {FAMILY}"
+            );
         }
-    });
-    let remedy = match flatness.filter(|&s| s > tolerance) {
-        Some(s) if s > NEARLY_FLAT => String::from(
-            "a flat tolerance would not help: D_N nearly vanishes on functions constant along \
-             straight lines of the surface (developable parts such as thin cylinders and \
-             cones); use --operator family:T (0 < T < 1)",
-        ),
-        Some(s) => format!(
-            "treat such faces as flat with --flat-tolerance {:.0e}, or use --operator family:T \
-             (0 < T < 1)",
-            10f64.powf((10.0 * s).log10().ceil())
-        ),
-        None => String::from(
-            "treat such faces as flat with --flat-tolerance a larger value, or use --operator \
-             family:T (0 < T < 1)",
+        None => (
+            String::new(),
+            format!("treat such faces as flat with --flat-tolerance a larger value, or {FAMILY}"),
         ),
     };
     format!(
