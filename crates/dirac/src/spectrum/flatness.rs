@@ -47,11 +47,11 @@ fn face_flatness(
 /// The most that the noise of single-precision positions may stretch the flat tolerance face
 /// by face, as a multiple of it. The noise is a bound (the normals of four meshes rounded to 32
 /// bits moved by 1–15 % of it in the median), and locally a gently curved face cannot be told
-/// from a noisy flat one: beyond this, faces are flat only as part of a [`planar region`]
-/// whose positions contradict the curvature their normals suggest. The flat faces of pyvista's
+/// from a noisy flat one: beyond this, faces are flat only as part of a [`noisy plane`], whose
+/// positions contradict the curvature its normals suggest. The flat faces of pyvista's
 /// `nut.ply` measure up to 3.9 times the tolerance.
 ///
-/// [`planar region`]: is_noisy_plane
+/// [`noisy plane`]: denoise_gauss_map
 const NOISE_STRETCH: f64 = 4.0;
 
 /// How far the rounding of the stored positions can move each vertex normal, for a mesh stored
@@ -61,8 +61,7 @@ const NOISE_STRETCH: f64 = 4.0;
 /// height), and an area-weighted vertex normal by no more than the normals of its faces:
 /// `ν_a = δ / min h` over the faces around `a` (rounded to 32 bits, the fandisk, the camel
 /// head and a PSB model, also moved by 100 times their size, moved their normals by 0.6–7 %
-/// of it in the median and at most 41 %; twice it flattened more of the fandisk's gently
-/// curved faces than the noise explains). On a model away from the origin this is far
+/// of it in the median and at most 41 %). On a model away from the origin this is far
 /// above the flat tolerance's `T |f_a − f_b| / L`: pyvista's `nut.ply` (coordinates near 100,
 /// edges near 4) has faces flat to `10⁻⁶` in their normals that measured `1–4 · 10⁻⁵` against
 /// the default `10⁻⁵`, and each left a vertex that `P` annihilates to `10⁻¹⁴` in the problem.
