@@ -1113,10 +1113,10 @@ fn nearly_singular_message(
 
 /// The eigenproblem `P x = λ Q x` of an operator, with the matrices as assembled (flat faces
 /// not zeroed; for positions stored in single precision, with the Gauss map's noisy planes
-/// given their planes' normals, docs/MATH.md): what [`spectrum`] solves and measures its residuals against, for checking a
-/// result or feeding another solver. Quaternionic matrices of size `n × n`;
-/// [`SparseMatrix::to_real_block`] and [`SparseMatrix::to_complex_adjoint`] give the `4n × 4n`
-/// real and `2n × 2n` complex forms.
+/// given their planes' normals, docs/MATH.md): what [`spectrum`] solves and measures its
+/// residuals against, for checking a result or feeding another solver. Quaternionic matrices
+/// of size `n × n`; [`SparseMatrix::to_real_block`] and [`SparseMatrix::to_complex_adjoint`]
+/// give the `4n × 4n` real and `2n × 2n` complex forms.
 #[derive(Debug, Clone)]
 pub struct Eigenproblem {
     /// `P`: `L` (Laplace), `K_α` (anisotropic Laplace), `L + M diag(U)` (modified Dirichlet), `A = D* M_F D` (relative and
