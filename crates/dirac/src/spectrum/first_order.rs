@@ -94,8 +94,8 @@ struct SecondTriangles<'a> {
     size: f64,
     /// For the Gauss map: the mesh's positions and `flat tolerance / √area`. Two normals
     /// coincide only along an edge that is flat too (`|N_a − N_b| ≤ tolerance · |f_a − f_b| /
-    /// √area`, [`super::flatness::flat_faces`]): with tolerance 0, only exactly equal normals do,
-    /// and normals that differ by noise keep the rows that see it.
+    /// √area`, [`super::flatness::FlatTest::flat_faces`]): with tolerance 0, only exactly
+    /// equal normals do, and normals that differ by noise keep the rows that see it.
     flat_edges: Option<(&'a [[f64; 3]], f64)>,
 }
 

@@ -1,9 +1,8 @@
 //! Which faces are flat: the test behind the exact kernel's flat vertices (docs/MATH.md, "The
 //! exact kernel"). A face is flat when the vertex normals at its corners agree within the flat
 //! tolerance relative to its edges ([`face_flatness`]); for positions stored in single
-//! precision, within what their rounding explains ([`NormalNoise`], [`is_noisy_plane`]).
-
-use std::collections::HashMap;
+//! precision, within what their rounding explains ([`NormalNoise`],
+//! [`FlatTest::noisy_plane`]).
 
 use qsparse::DisjointSets;
 
@@ -51,7 +50,7 @@ fn face_flatness(
 /// positions contradict the curvature its normals suggest. The flat faces of pyvista's
 /// `nut.ply` measure up to 3.9 times the tolerance.
 ///
-/// [`noisy plane`]: denoise_gauss_map
+/// [`noisy plane`]: FlatTest::denoise_gauss_map
 const NOISE_STRETCH: f64 = 4.0;
 
 /// How far the rounding of the stored positions can move each vertex normal, for a mesh stored
@@ -139,86 +138,159 @@ pub(super) fn length_scale(mesh: &TriMesh) -> f64 {
         .sqrt()
 }
 
-/// Faces whose Gauss map is flat within `tolerance` (their [`face_flatness`] is at most it:
-/// along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L` beyond the noise of positions
-/// stored in single precision, so a sliver face is flat only if its normals agree to the scale
-/// of its short edge) and, with a potential, whose corners
-/// all have `U = 0`. The row of `D_N` of such a face, `−(N_r − N_q)/(2A_t)`, is negligible
-/// against that of `D_f` divided by `L`.
-pub(super) fn flat_faces(
-    mesh: &TriMesh,
-    normals: &[[f64; 3]],
-    potential: Option<&[f64]>,
+/// The flat test on one mesh with one tolerance: its length scale `L` and, for positions
+/// stored in single precision, the noise of its normals, found once for both the Gauss map's
+/// noisy planes and its flat faces.
+pub(super) struct FlatTest<'a> {
+    mesh: &'a TriMesh,
     tolerance: f64,
-) -> Vec<bool> {
-    let length = length_scale(mesh);
-    let noise = NormalNoise::of(mesh);
-    let discount = noise
-        .as_ref()
-        .map_or(Discount::None, |noise| Discount::Noise {
-            noise,
-            cap: NOISE_STRETCH * tolerance,
-        });
-    mesh.faces()
-        .iter()
-        .map(|&face| {
-            face_flatness(mesh, normals, discount, length, face) <= tolerance
-                && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
-        })
-        .collect()
+    length: f64,
+    noise: Option<NormalNoise>,
 }
 
-/// For a mesh stored in single precision, sets the vertex normals of every *noisy plane* to
-/// the plane's normal: a region of faces (connected through edges) that are flat within
-/// `tolerance` once all the noise of the rounding is discounted ([`NormalNoise`]), and whose
-/// positions [`is_noisy_plane`] shows to be a plane that only the rounding bends. Its faces
-/// are then flat as they are in the exact data, their rows of `D_N` vanish, and the exact
-/// kernel sees the pieces and flat vertices it has there (on a rotated cube with a drilled
-/// hole, subdivided and rounded to 32 bits, the constant of a second piece was lost without
-/// it, and the squared operator listed `1.1 · 10⁻⁸` in its place). Nothing changes for
-/// positions of double precision.
-pub(super) fn denoise_gauss_map(mesh: &TriMesh, normals: &mut [[f64; 3]], tolerance: f64) {
-    let Some(noise) = NormalNoise::of(mesh) else {
-        return;
-    };
-    let length = length_scale(mesh);
-    let whole = Discount::Noise {
-        noise: &noise,
-        cap: f64::INFINITY,
-    };
-    let faces = mesh.faces();
-    let candidate: Vec<bool> = (faces.iter())
-        .map(|&face| face_flatness(mesh, normals, whole, length, face) <= tolerance)
-        .collect();
-    let mut regions = DisjointSets::new(faces.len());
-    for uses in edge_uses(faces).chunk_by(same_edge) {
-        let mut sharing = uses.iter().map(EdgeUse::face).filter(|&t| candidate[t]);
-        if let Some(first) = sharing.next() {
-            sharing.for_each(|t| regions.union(first, t));
+impl<'a> FlatTest<'a> {
+    pub(super) fn new(mesh: &'a TriMesh, tolerance: f64) -> Self {
+        Self {
+            mesh,
+            tolerance,
+            length: length_scale(mesh),
+            noise: NormalNoise::of(mesh),
         }
     }
-    // Regions in the order of their first faces, so that a vertex two planes share takes the
-    // same normal in every run.
-    let mut index_of_root: HashMap<usize, usize> = HashMap::new();
-    let mut by_region: Vec<Vec<usize>> = Vec::new();
-    for t in (0..faces.len()).filter(|&t| candidate[t]) {
-        let next = by_region.len();
-        let index = *index_of_root.entry(regions.find(t)).or_insert(next);
-        if index == next {
-            by_region.push(Vec::new());
-        }
-        by_region[index].push(t);
+
+    /// [`face_flatness`] of `face` on this mesh.
+    fn flatness(&self, normals: &[[f64; 3]], discount: Discount, face: [usize; 3]) -> f64 {
+        face_flatness(self.mesh, normals, discount, self.length, face)
     }
-    let around = FacesAround::of(mesh);
-    // All regions are judged on the normals as computed, then their normals are set.
-    let planes: Vec<([f64; 3], Vec<usize>)> = (by_region.iter())
-        .filter_map(|region| {
-            let normal = is_noisy_plane(mesh, normals, &around, region, noise.rounding, length)?;
-            Some((normal, region.iter().flat_map(|&t| faces[t]).collect()))
-        })
-        .collect();
-    for (normal, vertices) in planes {
-        vertices.into_iter().for_each(|v| normals[v] = normal);
+
+    /// Faces whose Gauss map is flat within the tolerance (their [`face_flatness`] is at most
+    /// it: along every edge `|N_a − N_b| ≤ tolerance · |f_a − f_b| / L` beyond the noise of
+    /// positions stored in single precision, so a sliver face is flat only if its normals
+    /// agree to the scale of its short edge) and, with a potential, whose corners all have
+    /// `U = 0`. The row of `D_N` of such a face, `−(N_r − N_q)/(2A_t)`, is negligible against
+    /// that of `D_f` divided by `L`.
+    pub(super) fn flat_faces(&self, normals: &[[f64; 3]], potential: Option<&[f64]>) -> Vec<bool> {
+        let discount = (self.noise.as_ref()).map_or(Discount::None, |noise| Discount::Noise {
+            noise,
+            cap: NOISE_STRETCH * self.tolerance,
+        });
+        (self.mesh.faces().iter())
+            .map(|&face| {
+                self.flatness(normals, discount, face) <= self.tolerance
+                    && potential.is_none_or(|u| face.iter().all(|&p| u[p] == 0.0))
+            })
+            .collect()
+    }
+
+    /// For a mesh stored in single precision, sets the vertex normals of every *noisy plane*
+    /// to the plane's normal: a region of faces (connected through edges) that are flat within
+    /// the tolerance once all the noise of the rounding is discounted ([`NormalNoise`]), and
+    /// whose positions [`FlatTest::noisy_plane`] shows to be a plane that only the rounding
+    /// bends. Its faces are then flat as they are in the exact data, their rows of `D_N`
+    /// vanish, and the exact kernel sees the pieces and flat vertices it has there (on a
+    /// rotated cube with a drilled hole, subdivided and rounded to 32 bits, the constant of a
+    /// second piece was lost without it, and the squared operator listed `1.1 · 10⁻⁸` in its
+    /// place). Nothing changes for positions of double precision.
+    pub(super) fn denoise_gauss_map(&self, normals: &mut [[f64; 3]]) {
+        let Some(noise) = &self.noise else {
+            return;
+        };
+        let whole = Discount::Noise {
+            noise,
+            cap: f64::INFINITY,
+        };
+        let faces = self.mesh.faces();
+        let candidate: Vec<bool> = (faces.iter())
+            .map(|&face| self.flatness(normals, whole, face) <= self.tolerance)
+            .collect();
+        let mut regions = DisjointSets::new(faces.len());
+        for uses in edge_uses(faces).chunk_by(same_edge) {
+            let mut sharing = uses.iter().map(EdgeUse::face).filter(|&t| candidate[t]);
+            if let Some(first) = sharing.next() {
+                sharing.for_each(|t| regions.union(first, t));
+            }
+        }
+        // Regions in the order of their first faces, so that a vertex two planes share takes
+        // the same normal in every run.
+        let mut index_of_root = vec![usize::MAX; faces.len()];
+        let mut by_region: Vec<Vec<usize>> = Vec::new();
+        for t in (0..faces.len()).filter(|&t| candidate[t]) {
+            let index = &mut index_of_root[regions.find(t)];
+            if *index == usize::MAX {
+                *index = by_region.len();
+                by_region.push(Vec::new());
+            }
+            by_region[*index].push(t);
+        }
+        let around = FacesAround::of(self.mesh);
+        // All regions are judged on the normals as computed, then their normals are set.
+        let planes: Vec<([f64; 3], Vec<usize>)> = (by_region.iter())
+            .filter_map(|region| {
+                let normal = self.noisy_plane(normals, &around, region, noise.rounding)?;
+                Some((normal, region.iter().flat_map(|&t| faces[t]).collect()))
+            })
+            .collect();
+        for (normal, vertices) in planes {
+            vertices.into_iter().for_each(|v| normals[v] = normal);
+        }
+    }
+
+    /// The normal of `region`'s plane if the positions around it contradict the curvature its
+    /// normals suggest: every vertex of every face around the region's vertices (whose normals
+    /// the flat test compared) lies within `d ≤` [`PLANE_SLACK`]` δ` of the plane through the
+    /// region's area-weighted centroid, normal to its area-weighted normal, while a curvature `κ`
+    /// as large as the region's largest flatness suggests (`κ = flatness / L`), kept over its
+    /// extent `E` (twice the largest distance from the centroid within the plane), would move
+    /// them by `κ E² / 8`, at least [`CURVATURE_EVIDENCE`]` · max(d, δ)`. A curved region moves
+    /// from its plane by about half of `κ E² / 8`: its positions bend with its normals. On the
+    /// fandisk rounded to 32 bits and moved by 100, the regions left out lie 6–17 `δ` from their
+    /// planes, where their normals suggest 4–13 `δ`; the flat panels around a hole drilled into a
+    /// cube (subdivided, rotated, rounded) lie within `0.8 δ` of theirs, where their normals
+    /// suggest 55–860 `δ`.
+    fn noisy_plane(
+        &self,
+        normals: &[[f64; 3]],
+        around: &FacesAround,
+        region: &[usize],
+        rounding: f64,
+    ) -> Option<[f64; 3]> {
+        let (p, faces) = (self.mesh.positions(), self.mesh.faces());
+        let mut area_normal = [0.0; 3];
+        let mut weighted_centroid = [0.0; 3];
+        let mut area = 0.0;
+        let mut flatness: f64 = 0.0;
+        for &t in region {
+            let [i, j, k] = faces[t];
+            let doubled = cross(sub(p[j], p[i]), sub(p[k], p[i]));
+            let face_area = norm(doubled) / 2.0;
+            area_normal = add(area_normal, doubled);
+            let centroid = scale(add(add(p[i], p[j]), p[k]), 1.0 / 3.0);
+            weighted_centroid = add(weighted_centroid, scale(centroid, face_area));
+            area += face_area;
+            flatness = flatness.max(self.flatness(normals, Discount::None, faces[t]));
+        }
+        if norm(area_normal) <= f64::MIN_POSITIVE || area <= f64::MIN_POSITIVE {
+            return None;
+        }
+        let normal = normalize(area_normal);
+        let centroid = scale(weighted_centroid, 1.0 / area);
+        let mut deviation: f64 = 0.0;
+        let mut reach: f64 = 0.0;
+        // Each face around the region once per corner it shares with it: a maximum does not mind.
+        let star = (region.iter())
+            .flat_map(|&t| faces[t])
+            .flat_map(|v| around.at(v));
+        for v in star.flat_map(|&t| faces[t]) {
+            let offset = sub(p[v], centroid);
+            let height = dot(offset, normal);
+            deviation = deviation.max(height.abs());
+            reach = reach.max(norm(sub(offset, scale(normal, height))));
+        }
+        let extent = 2.0 * reach;
+        let suggested = flatness / self.length * extent * extent / 8.0;
+        (deviation <= PLANE_SLACK * rounding
+            && suggested >= CURVATURE_EVIDENCE * deviation.max(rounding))
+        .then_some(normal)
     }
 }
 
@@ -230,66 +302,6 @@ const PLANE_SLACK: f64 = 4.0;
 /// How many times more than its positions a noisy plane's normals must bend: by at least this
 /// much more than its vertices' distance from the plane (and than `δ`).
 const CURVATURE_EVIDENCE: f64 = 4.0;
-
-/// The normal of `region`'s plane if the positions around it contradict the curvature its
-/// normals suggest: every vertex of every face around the region's vertices (whose normals
-/// the flat test compared) lies within `d ≤` [`PLANE_SLACK`]` δ` of the plane through the
-/// region's area-weighted centroid, normal to its area-weighted normal, while a curvature `κ`
-/// as large as the region's largest flatness suggests (`κ = flatness / L`), kept over its
-/// extent `E` (twice the largest distance from the centroid within the plane), would move
-/// them by `κ E² / 8`, at least [`CURVATURE_EVIDENCE`]` · max(d, δ)`. A curved region moves
-/// from its plane by about half of `κ E² / 8`: its positions bend with its normals. On the
-/// fandisk rounded to 32 bits and moved by 100, the regions left out lie 6–17 `δ` from their
-/// planes, where their normals suggest 4–13 `δ`; the flat panels around a hole drilled into a
-/// cube (subdivided, rotated, rounded) lie within `0.8 δ` of theirs, where their normals
-/// suggest 55–860 `δ`.
-fn is_noisy_plane(
-    mesh: &TriMesh,
-    normals: &[[f64; 3]],
-    around: &FacesAround,
-    region: &[usize],
-    rounding: f64,
-    length: f64,
-) -> Option<[f64; 3]> {
-    let (p, faces) = (mesh.positions(), mesh.faces());
-    let mut area_normal = [0.0; 3];
-    let mut weighted_centroid = [0.0; 3];
-    let mut area = 0.0;
-    let mut flatness: f64 = 0.0;
-    for &t in region {
-        let [i, j, k] = faces[t];
-        let doubled = cross(sub(p[j], p[i]), sub(p[k], p[i]));
-        let face_area = norm(doubled) / 2.0;
-        area_normal = add(area_normal, doubled);
-        let centroid = scale(add(add(p[i], p[j]), p[k]), 1.0 / 3.0);
-        weighted_centroid = add(weighted_centroid, scale(centroid, face_area));
-        area += face_area;
-        let face = face_flatness(mesh, normals, Discount::None, length, faces[t]);
-        flatness = flatness.max(face);
-    }
-    if norm(area_normal) <= f64::MIN_POSITIVE || area <= f64::MIN_POSITIVE {
-        return None;
-    }
-    let normal = normalize(area_normal);
-    let centroid = scale(weighted_centroid, 1.0 / area);
-    let mut deviation: f64 = 0.0;
-    let mut reach: f64 = 0.0;
-    // Each face around the region once per corner it shares with it: a maximum does not mind.
-    let star = (region.iter())
-        .flat_map(|&t| faces[t])
-        .flat_map(|v| around.at(v));
-    for v in star.flat_map(|&t| faces[t]) {
-        let offset = sub(p[v], centroid);
-        let height = dot(offset, normal);
-        deviation = deviation.max(height.abs());
-        reach = reach.max(norm(sub(offset, scale(normal, height))));
-    }
-    let extent = 2.0 * reach;
-    let suggested = flatness / length * extent * extent / 8.0;
-    (deviation <= PLANE_SLACK * rounding
-        && suggested >= CURVATURE_EVIDENCE * deviation.max(rounding))
-    .then_some(normal)
-}
 
 /// The faces around flat vertices (vertices all of whose faces are `flat`): the rows of `D_N`
 /// that must vanish exactly for `δ_p` and the constants of the remaining pieces to be exact

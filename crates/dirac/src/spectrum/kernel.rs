@@ -3,9 +3,9 @@
 //!
 //! * **Flat vertices.** A face is *flat* when the first-order operator's row of it vanishes:
 //!   for `D_N` its corner normals agree within the flat tolerance relative to its edge lengths
-//!   ([`super::flatness::flat_faces`]; with a potential well, the potential is zero at its corners too). A vertex
-//!   all of whose faces are flat has `D δ_p = 0` and `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is
-//!   in `ker P ∩ ker Q` for every quaternion `q`. Every other eigenvector is mass-orthogonal to
+//!   ([`super::flatness::FlatTest::flat_faces`]; with a potential well, the potential is zero
+//!   at its corners too). A vertex all of whose faces are flat has `D δ_p = 0` and
+//!   `G δ_p = ½ D* M_F B δ_p = 0`, so `δ_p q` is in `ker P ∩ ker Q` for every quaternion `q`. Every other eigenvector is mass-orthogonal to
 //!   it, which for the diagonal mass means `x_p = 0`: the vertex is removed from the problem.
 //! * **Modes of pieces.** The remaining vertices split into pieces connected through faces that
 //!   are not flat. For each piece `S` whose indicator `𝟙_S` the stiffness annihilates

@@ -8,7 +8,7 @@ use qscalar::{Quat, Scalar};
 use qsparse::{SparseCholesky, SparseMatrix, SymbolicCholesky};
 
 use super::first_order::{FirstOrderKernel, first_order_kernel};
-use super::flatness::{denoise_gauss_map, flat_faces, vanishing_faces};
+use super::flatness::{FlatTest, vanishing_faces};
 use super::kernel::Reduction;
 use super::{Operator, SecondSurface, SpectrumError};
 use crate::TriMesh;
@@ -301,32 +301,30 @@ impl FirstOrder {
         flat_tolerance: f64,
     ) -> Result<Self, SpectrumError> {
         let mut normals = None;
-        let (f2, surface): (&[[f64; 3]], _) = match second {
+        // The rows of `D_f` are edge vectors over twice the area: never zero. Nor are those of
+        // a surface's, whose faces have positive area ([`TriMesh::check_same_connectivity`]
+        // paired it with `mesh`).
+        let no_flat_faces = || vec![false; mesh.face_count()];
+        let (f2, surface, flat): (&[[f64; 3]], _, _) = match second {
             SecondImmersion::GaussMap => {
                 let mut gauss_map = vertex_normals(mesh)
                     .map_err(|vertex| OperatorError::DegenerateNormal { vertex })?;
-                denoise_gauss_map(mesh, &mut gauss_map, flat_tolerance);
+                let test = FlatTest::new(mesh, flat_tolerance);
+                test.denoise_gauss_map(&mut gauss_map);
+                let flat = vanishing_faces(mesh, &test.flat_faces(&gauss_map, potential));
                 (
                     normals.insert(gauss_map).as_slice(),
                     SecondSurface::GaussMap,
+                    flat,
                 )
             }
-            SecondImmersion::Positions => (mesh.positions(), SecondSurface::Mesh),
-            SecondImmersion::Surface(f2) => (f2, SecondSurface::Reference),
+            SecondImmersion::Positions => (mesh.positions(), SecondSurface::Mesh, no_flat_faces()),
+            SecondImmersion::Surface(f2) => (f2, SecondSurface::Reference, no_flat_faces()),
         };
         let d = relative_dirac(mesh, f2)?;
         let d = match potential {
             Some(u) => dirac_with_well(mesh, &d, u)?,
             None => d,
-        };
-        // The rows of `D_f` are edge vectors over twice the area: never zero. Nor are those of
-        // a surface's, whose faces have positive area ([`TriMesh::check_same_connectivity`]
-        // paired it with `mesh`).
-        let flat = match surface {
-            SecondSurface::GaussMap => {
-                vanishing_faces(mesh, &flat_faces(mesh, f2, potential, flat_tolerance))
-            }
-            _ => vec![false; mesh.face_count()],
         };
         let pencil = |d: &SparseMatrix<Quat<f64>>| -> Result<Matrices<_>, SpectrumError> {
             let p = DiracPencil::new(mesh, d)?;
