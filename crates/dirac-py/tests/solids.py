@@ -1,5 +1,5 @@
 """Man-made shapes built here with numpy, independently of the package: extrusions of polygons
-(prisms, open tubes of flat panels), cubes of flat grids, cones."""
+(prisms, open tubes of flat panels), cubes of flat grids, cones, a ribbon."""
 
 from __future__ import annotations
 
@@ -130,3 +130,15 @@ def voxels(cells: list[tuple[int, int, int]], cuts: int) -> tuple[np.ndarray, np
                         a, b, c, d = quad if turn > 0 else quad[::-1]
                         F += [[a, b, c], [a, c, d]]
     return np.array(V, dtype=float), np.array(F)
+
+
+def ribbon(segments: int) -> tuple[np.ndarray, np.ndarray]:
+    """A ribbon one quad wide along a wavy curve, rising and falling: ``segments`` quads split
+    in two, so ``2 (segments + 1)`` vertices carry only ``2 segments`` rows of ``D_N``."""
+    t = np.linspace(0, 1, segments + 1)
+    near = np.stack([4 * t, np.sin(3 * t), np.zeros_like(t)], axis=1)
+    far = np.stack([4 * t, np.sin(3 * t) + 0.1, 0.5 + 0.2 * np.cos(5 * t)], axis=1)
+    i = np.arange(segments)
+    F = np.concatenate([np.stack([i, i + 1, segments + 1 + i], axis=1),
+                        np.stack([i + 1, segments + 2 + i, segments + 1 + i], axis=1)])
+    return np.vstack([near, far]), F

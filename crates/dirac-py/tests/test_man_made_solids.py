@@ -1,21 +1,26 @@
 """Man-made solids, the shapes of CAD models: prisms capped by fans of thin triangles or
 around a centre, a cube whose faces are flat grids, a cone, a toothed extrusion, a vase of
 conical and cylindrical bands, unions of cubes (an L-bracket, stairs, a frame with a hole),
-a rounded square extruded (flat sides tangent to cylindrical fillets). Every
-operator's spectrum and kernel are checked against a dense scipy solve of the same pencil whose
-kernel is found numerically, knowing nothing of flat vertices, pieces or rulings."""
+a rounded square extruded (flat sides tangent to cylindrical fillets), an open cut of a
+cylinder with a jagged boundary, a ribbon one quad wide. Every operator's spectrum and kernel
+are checked against a dense scipy solve of the same pencil whose kernel is found numerically,
+knowing nothing of flat vertices, pieces, rulings or freed rows."""
 
 from __future__ import annotations
 
 import re
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import dirac_spectra as ds
 from pencils import OPERATORS, by_magnitude, dense_reference
-from solids import cone, cube, cut, polygon, prism, revolve, rounded_square, voxels
+from solids import cone, cube, cut, polygon, prism, revolve, ribbon, rounded_square, voxels
+
+# An open surface cut from a CAD cylinder (manifold3d), committed with the Rust tests.
+JAGGED_CUT = Path(__file__).parents[2] / "dirac/tests/data/jagged_cylinder_cut.obj"
 
 VASE = [(0.5, 0.0), (1.0, 0.3), (1.0, 0.8), (0.6, 1.0), (0.7, 1.3)]
 
@@ -39,6 +44,10 @@ SOLIDS = {
     ),
     "rounded square prism, centred caps": prism(rounded_square(3), 3, "centre"),
     "rounded square prism, fan caps": prism(rounded_square(2), 2, "fan"),
+    # Rows freed by a corner in no other row: corners in single boundary faces of a jagged
+    # cut, and a ribbon freed from one end to the other.
+    "jagged cut of a cylinder": ds.read_mesh(str(JAGGED_CUT)),
+    "wavy ribbon": ribbon(30),
 }
 
 

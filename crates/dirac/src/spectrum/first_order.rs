@@ -6,6 +6,7 @@
 //! `p`, `q → r` the edge opposite `p`: what it asks of a kernel vector depends only on the
 //! triangle of `f2` ([`SecondTriangle`]).
 
+use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 
 use qscalar::{Quat, Scalar};
@@ -13,8 +14,9 @@ use qsparse::vector::axpy;
 use qsparse::{DenseMatrix, DisjointSets, SparseVector};
 
 use super::SecondSurface;
-use super::flatness::length_scale;
-use super::kernel::PinnedVector;
+use super::determined::DeterminedCorners;
+use super::flatness::{FacesAround, length_scale};
+use super::kernel::{KernelStructure, PinnedVector, pivots};
 use crate::TriMesh;
 use crate::geometry::{cross, dot, norm, normalize, sub};
 use crate::phase::{mass_inner, mass_norm};
@@ -28,17 +30,18 @@ use crate::phase::{mass_inner, mass_norm};
 pub(super) struct FirstOrderKernel<T> {
     /// Which surface `f2` is.
     pub surface: SecondSurface,
-    /// The pieces ([`kernel_pieces`]): finer than the components of the faces that are not
-    /// skipped where two corners of a triangle of `f2` coincide.
-    pub pieces: DisjointSets,
-    /// `u (f2 − f̄2)` on each parallel piece with no segment, `f̄2` the mass-weighted mean
-    /// over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
-    /// exactly the constant and this function.
-    pub linear: Vec<SparseVector<T>>,
-    /// By piece root: a mass-orthonormal basis of the kernel on each piece whose rulings
-    /// leave more than the constant and `u f2` ([`RuledPieces::basis`]), pinned; it replaces
-    /// them.
-    pub ruled: HashMap<usize, Vec<PinnedVector<T>>>,
+    /// What the kernel's search checks against the matrices:
+    /// * the pieces ([`kernel_pieces`]) of the rows that are neither skipped nor freed
+    ///   ([`FreedRows`]): finer than their faces' components where two corners of a triangle
+    ///   of `f2` coincide;
+    /// * `u (f2 − f̄2)` on each parallel piece with no segment, `f̄2` the mass-weighted mean
+    ///   over the piece (so the mode is mass-orthogonal to its constant): the kernel there is
+    ///   exactly the constant and this function;
+    /// * by piece root, a mass-orthonormal basis of the kernel on each piece whose rulings
+    ///   leave more than the constant and `u f2` ([`RuledPieces::basis`]), pinned; it replaces
+    ///   them;
+    /// * the corners the freed rows determine.
+    pub structure: KernelStructure<T>,
     /// The first piece whose kernel may be larger than what is removed: the spectrum stops
     /// there with an error.
     pub unremoved: Option<Unremoved>,
@@ -279,13 +282,27 @@ pub(super) fn first_order_kernel(
     let flat_edges = (surface == SecondSurface::GaussMap)
         .then(|| (mesh.positions(), flat_tolerance / length_scale(mesh)));
     let triangles = SecondTriangles::new(positions, flat_edges);
+    let freed = FreedRows::of(mesh, &triangles, skipped, potential);
+    // The rows left: neither flat nor freed.
+    let skipped: Cow<[bool]> = if freed.determined.is_empty() {
+        Cow::Borrowed(skipped)
+    } else {
+        Cow::Owned(
+            (skipped.iter().zip(&freed.freed))
+                .map(|(&s, &f)| s || f)
+                .collect(),
+        )
+    };
+    let skipped = skipped.as_ref();
     let mut pieces = kernel_pieces(mesh, &triangles, skipped);
     let parallel = parallel_faces(mesh, &triangles, skipped, &mut pieces);
     let mut kernel = FirstOrderKernel {
         surface,
-        pieces,
-        linear: Vec::new(),
-        ruled: HashMap::new(),
+        structure: KernelStructure {
+            determined: freed.determined,
+            uninvolved: freed.uninvolved,
+            ..KernelStructure::of_pieces(pieces)
+        },
         unremoved: None,
     };
     let mut linear_pieces = HashSet::new();
@@ -297,7 +314,7 @@ pub(super) fn first_order_kernel(
             });
             continue;
         };
-        linear_pieces.insert(kernel.pieces.find(piece.vertices[0]));
+        linear_pieces.insert(kernel.structure.pieces.find(piece.vertices[0]));
         let total: f64 = piece.vertices.iter().map(|&p| masses[p]).sum();
         let mean: [f64; 3] = std::array::from_fn(|c| {
             (piece.vertices.iter())
@@ -309,7 +326,7 @@ pub(super) fn first_order_kernel(
         let values = (piece.vertices.iter())
             .map(|&p| u * Quat::from_vector(sub(positions[p], mean)))
             .collect();
-        kernel.linear.push(SparseVector {
+        kernel.structure.linear.push(SparseVector {
             rows: piece.vertices,
             values,
         });
@@ -326,6 +343,127 @@ pub(super) fn first_order_kernel(
         );
     }
     kernel
+}
+
+/// The rows of `D_{f,f2}` freed by a corner that no other row involves ([`super::determined`]),
+/// one after the other until none is left.
+///
+/// A row involves all three corners of a [`SecondTriangle::Triangle`] or a
+/// [`SecondTriangle::Segment`] (every coefficient `f2_r − f2_q` is nonzero), the two
+/// coinciding corners of a [`SecondTriangle::Pair`] (it asks `ψ_a = ψ_b`), and none of a
+/// [`SecondTriangle::Point`]. Rows where the well's potential is not zero at a corner involve
+/// all three and are never freed: their coefficients are not those of `D_{f,f2}`.
+struct FreedRows {
+    /// By face: its row is freed.
+    freed: Vec<bool>,
+    /// How the corner of each freed row follows from the others.
+    determined: DeterminedCorners<Quat<f64>>,
+    /// The vertices of rows that are not skipped which no row involves once the freed rows are
+    /// out and which are not determined (ascending): third corners of pairs, and corners left
+    /// of rows freed around them.
+    uninvolved: Vec<usize>,
+}
+
+impl FreedRows {
+    /// The rows of the faces not `skipped`, freed.
+    fn of(
+        mesh: &TriMesh,
+        triangles: &SecondTriangles,
+        skipped: &[bool],
+        potential: Option<&[f64]>,
+    ) -> Self {
+        // By face: bit `i` if the row involves corner `i`, and whether it may be freed.
+        const FREEABLE: u8 = 1 << 3;
+        let mut rows = vec![0u8; mesh.face_count()];
+        let mut involving = vec![0u32; mesh.vertex_count()];
+        let mut in_a_row = vec![false; mesh.vertex_count()];
+        for (t, face, triangle) in triangles.classified(mesh, skipped) {
+            let in_well = potential.is_some_and(|u| face.iter().any(|&p| u[p] != 0.0));
+            let corner = |v| 1u8 << face.iter().position(|&p| p == v).unwrap_or(0);
+            let corners = match triangle {
+                _ if in_well => 0b111,
+                SecondTriangle::Point => 0,
+                SecondTriangle::Pair(a, b) => corner(a) | corner(b),
+                SecondTriangle::Segment | SecondTriangle::Triangle(_) => 0b111,
+            };
+            rows[t] = corners | if in_well { 0 } else { FREEABLE };
+            for i in 0..3 {
+                involving[face[i]] += u32::from(corners & (1 << i) != 0);
+                in_a_row[face[i]] = true;
+            }
+        }
+        let mut freed = vec![false; mesh.face_count()];
+        let mut determined = DeterminedCorners::default();
+        let mut candidates: Vec<usize> = (0..involving.len())
+            .filter(|&v| involving[v] == 1)
+            .collect();
+        // Most closed meshes have none: no table of the faces around each vertex then.
+        let around = (!candidates.is_empty()).then(|| FacesAround::of(mesh));
+        let around_of = |v| around.as_ref().map_or(&[][..], |a| a.at(v));
+        while let Some(v) = candidates.pop() {
+            // The one row that involves `v`, if it may be freed.
+            let row = around_of(v).iter().copied().find(|&t| {
+                let i = mesh.faces()[t].iter().position(|&p| p == v).unwrap_or(0);
+                rows[t] & (1 << i) != 0
+            });
+            let Some(t) = row.filter(|&t| involving[v] == 1 && rows[t] & FREEABLE != 0) else {
+                continue;
+            };
+            let face = mesh.faces()[t];
+            let involved: Vec<usize> = (0..3).filter(|i| rows[t] & (1 << i) != 0).collect();
+            let free = |i: usize| involving[face[i]] == 1;
+            determine(face, &involved, free, triangles.positions, &mut determined);
+            (rows[t], freed[t]) = (0, true);
+            for &i in &involved {
+                involving[face[i]] -= 1;
+                if involving[face[i]] == 1 {
+                    candidates.push(face[i]);
+                }
+            }
+        }
+        determined.corners().for_each(|c| in_a_row[c] = false);
+        let uninvolved = (0..involving.len())
+            .filter(|&v| in_a_row[v] && involving[v] == 0)
+            .collect();
+        Self {
+            freed,
+            determined,
+            uninvolved,
+        }
+    }
+}
+
+/// Records how a corner of the row of `face` that no other row involves (`free`) follows from
+/// the row's other `involved` corners (indices into `face`), `f2` the second surface. Of
+/// several such corners of a proper row, the one with the longest opposite edge of `f2` (the
+/// largest coefficient) is determined.
+fn determine(
+    face: [usize; 3],
+    involved: &[usize],
+    free: impl Fn(usize) -> bool,
+    f2: &[[f64; 3]],
+    determined: &mut DeterminedCorners<Quat<f64>>,
+) {
+    if let [i, j] = *involved {
+        // A pair asks `ψ_a = ψ_b`: the free corner takes its partner's value.
+        let (leaf, other) = if free(i) {
+            (face[i], face[j])
+        } else {
+            (face[j], face[i])
+        };
+        determined.push(leaf, other, other, Quat::from_real(0.0));
+        return;
+    }
+    // The edge of `f2` opposite corner `i`: `e_i = f2_b − f2_a` for the cyclic `(i, a, b)`.
+    let opposite = |i: usize| sub(f2[face[(i + 2) % 3]], f2[face[(i + 1) % 3]]);
+    let i = (0..3)
+        .filter(|&i| free(i))
+        .max_by(|&a, &b| norm(opposite(a)).total_cmp(&norm(opposite(b))))
+        .unwrap_or(0);
+    // `ψ_c = ψ_a − e_c⁻¹ e_b (ψ_b − ψ_a)`, with `e_c⁻¹ = −e_c / |e_c|²` (`e_c` imaginary).
+    let (e_c, e_b) = (opposite(i), opposite((i + 2) % 3));
+    let weight = Quat::from_vector(e_c) * Quat::from_vector(e_b) * (1.0 / dot(e_c, e_c));
+    determined.push(face[i], face[(i + 1) % 3], face[(i + 2) % 3], weight);
 }
 
 /// Pieces whose kernel propagation does not bound, and whose rigid parts have more
@@ -357,7 +495,7 @@ fn add_kernel_on_rulings(
     masses: &[f64],
     linear_pieces: &HashSet<usize>,
 ) {
-    let pieces = &mut kernel.pieces;
+    let pieces = &mut kernel.structure.pieces;
     let Some(mut ruled) = RuledPieces::new(mesh, triangles, skipped, potential, pieces) else {
         return;
     };
@@ -377,7 +515,7 @@ fn add_kernel_on_rulings(
             return;
         };
         if basis.len() > known {
-            kernel.ruled.insert(root, basis);
+            kernel.structure.ruled.insert(root, basis);
         }
     }
 }
@@ -714,17 +852,17 @@ impl<'a> RuledPieces<'a> {
             );
         }
         let mass: Vec<f64> = vertices.iter().map(|&v| masses[v]).collect();
-        let orthonormal = mass_orthonormal(vectors, &mass);
+        let orthonormal: Vec<SparseVector<Quat<f64>>> = (mass_orthonormal(vectors, &mass))
+            .into_iter()
+            .map(|values| SparseVector {
+                rows: vertices.clone(),
+                values,
+            })
+            .collect();
         let pins = pivots(&orthonormal);
         Some(
             (orthonormal.into_iter().zip(pins))
-                .map(|(values, pin)| PinnedVector {
-                    vector: SparseVector {
-                        rows: vertices.clone(),
-                        values,
-                    },
-                    pin: vertices[pin],
-                })
+                .map(|(vector, pin)| PinnedVector { vector, pin })
                 .collect(),
         )
     }
@@ -750,31 +888,6 @@ fn mass_orthonormal(vectors: Vec<Vec<Quat<f64>>>, mass: &[f64]) -> Vec<Vec<Quat<
         }
     }
     done
-}
-
-/// One index per vector at which no combination of the vectors vanishes entirely: Gaussian
-/// elimination on working copies, each pivot the largest remaining entry of its vector.
-fn pivots(vectors: &[Vec<Quat<f64>>]) -> Vec<usize> {
-    let mut work: Vec<Vec<Quat<f64>>> = vectors.to_vec();
-    let mut pins = Vec::with_capacity(vectors.len());
-    for i in 0..work.len() {
-        let pin = (0..work[i].len())
-            .max_by(|&a, &b| work[i][a].abs().total_cmp(&work[i][b].abs()))
-            .unwrap_or(0);
-        let inverse = work[i][pin].inv();
-        let (earlier, later) = work.split_at_mut(i + 1);
-        let row = &earlier[i];
-        for other in later {
-            // `other ← other − row (row_pin⁻¹ other_pin)`: zero at the pin.
-            let factor = inverse * other[pin];
-            other
-                .iter_mut()
-                .zip(row)
-                .for_each(|(a, b)| *a -= *b * factor);
-        }
-        pins.push(pin);
-    }
-    pins
 }
 
 /// The one direction a set of unit normals may all be perpendicular to: the cross product of

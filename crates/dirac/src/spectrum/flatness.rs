@@ -99,14 +99,14 @@ impl NormalNoise {
 }
 
 /// The faces around each vertex.
-struct FacesAround {
+pub(super) struct FacesAround {
     /// The faces around vertex `v` are `faces[start[v]..start[v + 1]]`.
     start: Vec<usize>,
     faces: Vec<usize>,
 }
 
 impl FacesAround {
-    fn of(mesh: &TriMesh) -> Self {
+    pub fn of(mesh: &TriMesh) -> Self {
         let mut start = vec![0; mesh.vertex_count() + 1];
         for &v in mesh.faces().iter().flatten() {
             start[v + 1] += 1;
@@ -125,7 +125,7 @@ impl FacesAround {
         Self { start, faces }
     }
 
-    fn at(&self, vertex: usize) -> &[usize] {
+    pub fn at(&self, vertex: usize) -> &[usize] {
         &self.faces[self.start[vertex]..self.start[vertex + 1]]
     }
 }

@@ -15,12 +15,16 @@
 //!   checked here the same way). Each such *mode* `k` has a [`Coupling`] that says how the other
 //!   eigenvectors relate to it: unless `Q k = 0`, every eigenvector with `λ ≠ 0` satisfies
 //!   `(Q k)* x = 0`, because `k* P x = 0 = λ k* Q x`.
+//! * **Determined corners.** The corners of freed rows ([`super::determined`]) belong to no
+//!   piece: every mode is extended to them, and modes that share one are made mass-orthogonal
+//!   and pinned again.
 
 use std::collections::HashMap;
 
 use qscalar::Scalar;
 use qsparse::{DisjointSets, Gram, SparseMatrix, SparseVector};
 
+use super::determined::DeterminedCorners;
 use crate::TriMesh;
 
 /// Relative size `Σ|P k| ≤ 10⁻¹⁰ Σ_j |k_j| Σ_i |P_ij|` below which a mode `k` is in the kernel
@@ -53,8 +57,9 @@ pub(super) enum ModeKind {
     Ruling,
 }
 
-/// A kernel vector of `P` supported on one connected piece of the non-flat vertices, for a
-/// pencil over the scalar `T`.
+/// A kernel vector of `P` supported on one connected piece of the non-flat vertices and the
+/// corners it determines (made mass-orthogonal to the modes that share them), for a pencil over
+/// the scalar `T`.
 #[derive(Debug, Clone)]
 pub(super) struct KernelMode<T> {
     /// Constant or linear.
@@ -100,6 +105,40 @@ pub(super) enum Restoration<T> {
     },
 }
 
+/// What the structure of an operator tells of its kernel, for [`ExactKernel::find`] to check
+/// against the matrices: the pieces whose constants are candidate modes, candidate linear modes
+/// (each on one piece, ascending rows), bases of the kernel on ruled pieces (by piece root), and
+/// the corners that freed rows determine ([`DeterminedCorners`]), to which every mode extends.
+#[derive(Debug, Clone)]
+pub(super) struct KernelStructure<T> {
+    /// The pieces: vertices a kernel vector is constant on.
+    pub pieces: DisjointSets,
+    /// Candidate linear modes `u (f2 − f̄2)`.
+    pub linear: Vec<SparseVector<T>>,
+    /// By piece root: a pinned basis of the kernel there, in place of its constant and linear
+    /// mode.
+    pub ruled: HashMap<usize, Vec<PinnedVector<T>>>,
+    /// Corners outside every piece, whose values the others determine.
+    pub determined: DeterminedCorners<T>,
+    /// Vertices of faces whose rows do not vanish that no row involves once the freed rows are
+    /// out (ascending): their columns of the operator vanish by its structure.
+    pub uninvolved: Vec<usize>,
+}
+
+impl<T> KernelStructure<T> {
+    /// The structure of a pencil whose first-order operator tells nothing finer than its
+    /// `pieces` (their constants are the only candidates).
+    pub fn of_pieces(pieces: DisjointSets) -> Self {
+        Self {
+            pieces,
+            linear: Vec::new(),
+            ruled: HashMap::new(),
+            determined: DeterminedCorners::default(),
+            uninvolved: Vec::new(),
+        }
+    }
+}
+
 /// The kernel of a pencil that is known exactly: flat vertices and the modes of pieces.
 #[derive(Debug, Clone)]
 pub(super) struct ExactKernel<T> {
@@ -136,29 +175,36 @@ pub struct KernelSummary {
 }
 
 impl<T: Scalar<Real = f64>> ExactKernel<T> {
-    /// The kernel of `P x = λ Q x` on `mesh`, with `flat[t]` telling whether face `t`'s row of
-    /// the first-order operator vanishes (all `false` for operators without one), the `pieces`
-    /// whose constants are candidate modes (those of the first-order operator's structure, or
-    /// [`pieces`]), and candidate linear modes (each on one piece, ascending rows), each kept if
-    /// `P` annihilates it. `stiffness` and `coupling` are the matrices solved; `zeroed` is what
-    /// setting the rows of flat faces to zero removed from the coupling (assembled minus
-    /// solved), when it did ([`kernel_mode`]).
+    /// The kernel of `P x = λ Q x` on `mesh` (vertex masses `masses`), with `flat[t]` telling
+    /// whether face `t`'s row of the first-order operator vanishes (all `false` for operators
+    /// without one), and the candidate modes of its `structure`, each extended to the
+    /// determined corners and kept if `P` annihilates it. `stiffness` and `coupling` are the
+    /// matrices solved; `zeroed` is what setting the rows of flat faces to zero removed from the
+    /// coupling (assembled minus solved), when it did ([`kernel_mode`]).
     pub fn find(
         mesh: &TriMesh,
+        masses: &[f64],
         flat: &[bool],
-        mut pieces: DisjointSets,
+        structure: KernelStructure<T>,
         stiffness: &SparseMatrix<T>,
         coupling: &SparseMatrix<T>,
         zeroed: Option<&SparseMatrix<T>>,
-        linear: Vec<SparseVector<T>>,
-        mut ruled: HashMap<usize, Vec<PinnedVector<T>>>,
     ) -> Self {
+        let KernelStructure {
+            mut pieces,
+            linear,
+            mut ruled,
+            determined,
+            uninvolved,
+        } = structure;
         let n = mesh.vertex_count();
         let mut touches_curved = vec![false; n];
         for (face, _) in mesh.faces().iter().zip(flat).filter(|(_, f)| !**f) {
             face.iter().for_each(|&p| touches_curved[p] = true);
         }
         let flat_vertices = (0..n).filter(|&p| !touches_curved[p]).collect();
+        // Determined corners belong to no piece: their values follow from the pieces'.
+        determined.corners().for_each(|c| touches_curved[c] = false);
         let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
         for p in (0..n).filter(|&p| touches_curved[p]) {
             members[pieces.find(p)].push(p);
@@ -175,6 +221,7 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             stiffness,
             coupling,
             zeroed,
+            uninvolved: &uninvolved,
         };
         let mut modes = Vec::new();
         for (root, vertices) in members.into_iter().enumerate() {
@@ -183,15 +230,15 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
             };
             if let Some(basis) = ruled.remove(&root) {
                 modes.extend(basis.into_iter().filter_map(|b| {
-                    let kind = ModeKind::Ruling;
-                    kernel_mode(&mut accumulator, kind, b.vector, b.pin, matrices)
+                    let (kind, vector) = (ModeKind::Ruling, determined.extend(b.vector));
+                    kernel_mode(&mut accumulator, kind, vector, b.pin, matrices)
                 }));
                 continue;
             }
-            let vector = SparseVector {
+            let vector = determined.extend(SparseVector {
                 values: vec![T::one(); vertices.len()],
                 rows: vertices,
-            };
+            });
             let Some(mode) = kernel_mode(
                 &mut accumulator,
                 ModeKind::Constant,
@@ -208,13 +255,18 @@ impl<T: Scalar<Real = f64>> ExactKernel<T> {
                     .max_by(|a, b| (*a.1 - base).abs().total_cmp(&(*b.1 - base).abs()))
                     .filter(|(_, v)| (**v - base).abs() > 0.0)?
                     .0;
-                let pin = *pin;
+                let (pin, k) = (*pin, determined.extend(k));
                 kernel_mode(&mut accumulator, ModeKind::Linear, k, pin, matrices)
             });
             // Against `G = sym(Bᵀ M_F D)` a linear mode is free or orthogonal (`k* G k = 0` for
             // every kernel vector of `D`), so the pinned form never compresses two modes of one
             // piece; against the mass (shifted form) it is oblique, and only constrained.
             modes.extend(std::iter::once(mode).chain(linear));
+        }
+        if !determined.is_empty() {
+            orthogonalise_at_determined_corners(&mut modes, &determined, masses, |mode| {
+                coupled(&mut accumulator, mode, matrices)
+            });
         }
         let restoration = restorations(&modes, n);
         Self {
@@ -283,17 +335,7 @@ fn restorations<T: Scalar<Real = f64>>(modes: &[KernelMode<T>], n: usize) -> Vec
         .iter()
         .filter(|m| m.coupling == Coupling::Orthogonal)
         .collect();
-    let mut groups = DisjointSets::new(coupled.len());
-    let mut owner = vec![usize::MAX; n];
-    for (i, mode) in coupled.iter().enumerate() {
-        for &row in &mode.image.rows {
-            if owner[row] == usize::MAX {
-                owner[row] = i;
-            } else {
-                groups.union(i, owner[row]);
-            }
-        }
-    }
+    let mut groups = joined_by_shared_rows(coupled.iter().map(|m| &m.image), n);
     let mut members: Vec<Vec<&KernelMode<T>>> = vec![Vec::new(); coupled.len()];
     for (i, mode) in coupled.iter().enumerate() {
         members[groups.find(i)].push(mode);
@@ -353,7 +395,39 @@ fn l1<T: Scalar<Real = f64>>(g: &SparseVector<T>) -> f64 {
 /// `Σ_j |k_j| Σ_i |X_ij|`: the scale of `X k` without cancellation.
 fn column_mass<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, k: &SparseVector<T>) -> f64 {
     (k.rows.iter().zip(&k.values))
-        .map(|(&j, v)| v.abs() * x.col(j).1.iter().map(|q| q.abs()).sum::<f64>())
+        .map(|(&j, v)| v.abs() * column_l1(x, j))
+        .sum()
+}
+
+/// `Σ_i |x_ij|`.
+fn column_l1<T: Scalar<Real = f64>>(x: &SparseMatrix<T>, j: usize) -> f64 {
+    x.col(j).1.iter().map(|q| q.abs()).sum()
+}
+
+/// `Σ_j |k_j| s_j`: the scale against which the stiffness's image of `k` is judged, `s_j` the
+/// mass of column `j` of `x` or, for a vertex that no row of the first-order operator
+/// involves (`uninvolved`, ascending), the largest mass of the columns it is coupled to. Such
+/// a vertex's own column vanishes by the structure, exactly where the two coinciding corners
+/// of its rows' triangles of `f2` are equal and to rounding where they differ by rounding (a
+/// crease of a rotated CAD model), so it cannot be its own scale.
+fn stiffness_scale<T: Scalar<Real = f64>>(
+    x: &SparseMatrix<T>,
+    k: &SparseVector<T>,
+    uninvolved: &[usize],
+) -> f64 {
+    (k.rows.iter().zip(&k.values))
+        .map(|(&j, v)| {
+            let scale = if uninvolved.binary_search(&j).is_ok() {
+                x.col(j)
+                    .0
+                    .iter()
+                    .map(|&i| column_l1(x, i))
+                    .fold(0.0, f64::max)
+            } else {
+                column_l1(x, j)
+            };
+            v.abs() * scale
+        })
         .sum()
 }
 
@@ -405,6 +479,128 @@ struct ModeMatrices<'a, T> {
     stiffness: &'a SparseMatrix<T>,
     coupling: &'a SparseMatrix<T>,
     zeroed: Option<&'a SparseMatrix<T>>,
+    /// The vertices no row of the first-order operator involves (ascending).
+    uninvolved: &'a [usize],
+}
+
+/// The modes that share determined corners made mass-orthogonal, group by group (modes joined
+/// by shared rows) in their order (Gram–Schmidt with coefficients on the right, twice), each
+/// then `recoupled`, and the group pinned again ([`pivots`]): the removal of a mode's mass
+/// component (shifted form, free modes) and the kernel's basis take the modes as orthogonal,
+/// as those of different pieces are without the corners, and those of one piece are made.
+/// Combinations of kernel vectors, they stay in the kernel. The pins of the extended modes
+/// (at their pieces' first vertices) can be nearly dependent: on a strip freed from end to
+/// end both modes are pinned at one end, where they nearly agree, and the pinned form left
+/// residuals of `10⁻⁷`.
+fn orthogonalise_at_determined_corners<T: Scalar<Real = f64>>(
+    modes: &mut [KernelMode<T>],
+    determined: &DeterminedCorners<T>,
+    masses: &[f64],
+    mut recoupled: impl FnMut(&mut KernelMode<T>),
+) {
+    // Modes that share rows: those of one piece, and those of pieces whose rows determine a
+    // common corner.
+    let mut groups = joined_by_shared_rows(modes.iter().map(|m| &m.vector), masses.len());
+    let mut owner = vec![usize::MAX; masses.len()];
+    for (i, mode) in modes.iter().enumerate() {
+        mode.vector.rows.iter().for_each(|&row| owner[row] = i);
+    }
+    let mut determines = vec![false; modes.len()];
+    for corner in determined.corners() {
+        if owner[corner] != usize::MAX {
+            determines[groups.find(owner[corner])] = true;
+        }
+    }
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); modes.len()];
+    for i in 0..modes.len() {
+        members[groups.find(i)].push(i);
+    }
+    let touched = (members.into_iter().enumerate())
+        .filter(|(root, group)| determines[*root] && group.len() > 1)
+        .map(|(_, group)| group);
+    for group in touched {
+        for (position, &i) in group.iter().enumerate() {
+            for _ in 0..2 {
+                for &j in &group[..position] {
+                    let (earlier, mode) = (&modes[j].vector, &modes[i].vector);
+                    let along = mass_weighted(masses, earlier);
+                    let c = along
+                        .inner_sparse(mode)
+                        .scale(1.0 / along.inner_sparse(earlier).re());
+                    modes[i].vector = mode.minus_times(earlier, c);
+                }
+            }
+            recoupled(&mut modes[i]);
+        }
+        let vectors: Vec<SparseVector<T>> =
+            group.iter().map(|&i| modes[i].vector.clone()).collect();
+        for (&i, pin) in group.iter().zip(pivots(&vectors)) {
+            modes[i].pin = pin;
+        }
+    }
+}
+
+/// One row per vector at which no combination of the vectors vanishes entirely: Gaussian
+/// elimination on working copies, each pivot the largest remaining entry of its vector (pins
+/// where the vectors are far from dependent keep the pinned form well conditioned).
+pub(super) fn pivots<T: Scalar<Real = f64>>(vectors: &[SparseVector<T>]) -> Vec<usize> {
+    let mut work = vectors.to_vec();
+    let mut pins = Vec::with_capacity(vectors.len());
+    for i in 0..work.len() {
+        let (earlier, later) = work.split_at_mut(i + 1);
+        let row = &earlier[i];
+        let Some((&pin, &value)) =
+            (row.rows.iter().zip(&row.values)).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        else {
+            pins.push(vectors[i].rows.first().copied().unwrap_or(0));
+            continue;
+        };
+        let inverse = value.inv();
+        for other in later {
+            if let Ok(at) = other.rows.binary_search(&pin) {
+                // `other ← other − row (row_pin⁻¹ other_pin)`: zero at the pin.
+                let factor = inverse * other.values[at];
+                *other = other.minus_times(row, factor);
+                other.values[at] = T::zero();
+            }
+        }
+        pins.push(pin);
+    }
+    pins
+}
+
+/// The sparse `vectors` (rows in `0..n`) in sets joined by shared rows (union–find over the
+/// rows), by index.
+fn joined_by_shared_rows<'a, T: 'a>(
+    vectors: impl Iterator<Item = &'a SparseVector<T>>,
+    n: usize,
+) -> DisjointSets {
+    let mut owner = vec![usize::MAX; n];
+    let mut unions = Vec::new();
+    let mut count = 0;
+    for (i, vector) in vectors.enumerate() {
+        count = i + 1;
+        for &row in &vector.rows {
+            if owner[row] == usize::MAX {
+                owner[row] = i;
+            } else {
+                unions.push((i, owner[row]));
+            }
+        }
+    }
+    let mut sets = DisjointSets::new(count);
+    unions.into_iter().for_each(|(a, b)| sets.union(a, b));
+    sets
+}
+
+/// `M k` for the diagonal mass.
+fn mass_weighted<T: Scalar<Real = f64>>(masses: &[f64], k: &SparseVector<T>) -> SparseVector<T> {
+    SparseVector {
+        rows: k.rows.clone(),
+        values: (k.rows.iter().zip(&k.values))
+            .map(|(&p, &v)| v.scale(masses[p]))
+            .collect(),
+    }
 }
 
 /// The mode `k` pinned at `pin` if the stiffness annihilates it, with its [`Coupling`].
@@ -427,14 +623,36 @@ fn kernel_mode<T: Scalar<Real = f64>>(
     matrices: ModeMatrices<'_, T>,
 ) -> Option<KernelMode<T>> {
     let residue = accumulator.image(matrices.stiffness, &vector);
-    if l1(&residue) > MODE_TOLERANCE * column_mass(matrices.stiffness, &vector) {
+    let scale = stiffness_scale(matrices.stiffness, &vector, matrices.uninvolved);
+    if l1(&residue) > MODE_TOLERANCE * scale {
         return None;
     }
-    let image = accumulator.image(matrices.coupling, &vector);
+    let mut mode = KernelMode {
+        kind,
+        vector,
+        coupling: Coupling::Free,
+        image: SparseVector {
+            rows: Vec::new(),
+            values: Vec::new(),
+        },
+        pin,
+    };
+    coupled(accumulator, &mut mode, matrices);
+    Some(mode)
+}
+
+/// Sets `mode`'s image `g = Q k` and its [`Coupling`] for its vector `k` (see [`kernel_mode`]).
+fn coupled<T: Scalar<Real = f64>>(
+    accumulator: &mut Accumulator<T>,
+    mode: &mut KernelMode<T>,
+    matrices: ModeMatrices<'_, T>,
+) {
+    let vector = &mode.vector;
+    let image = accumulator.image(matrices.coupling, vector);
     let zeroed = matrices
         .zeroed
-        .map_or(0.0, |zeroed| column_mass(zeroed, &vector));
-    let reference = MODE_TOLERANCE * column_mass(matrices.coupling, &vector);
+        .map_or(0.0, |zeroed| column_mass(zeroed, vector));
+    let reference = MODE_TOLERANCE * column_mass(matrices.coupling, vector);
     let largest = vector.values.iter().map(|v| v.abs()).fold(0.0, f64::max);
     let coupling = if l1(&image) <= reference + zeroed {
         Coupling::Free
@@ -443,13 +661,7 @@ fn kernel_mode<T: Scalar<Real = f64>>(
     } else {
         Coupling::Oblique
     };
-    Some(KernelMode {
-        kind,
-        vector,
-        coupling,
-        image,
-        pin,
-    })
+    (mode.coupling, mode.image) = (coupling, image);
 }
 
 /// The vertices kept in a reduced problem, in mass-scaled coordinates `z = M^{1/2} y`, and the

@@ -53,7 +53,10 @@
 //! triangles together at single vertices the kernel can be larger, and it is computed on the
 //! rulings and removed (functions of rulings; [`SpectrumError::RuledKernel`] beyond the size
 //! computed). Where some triangles are segments of three distinct points the kernel can be
-//! larger too: [`SpectrumError::ParallelFaces`]. [`Spectrum::kernel`] reports what was found;
+//! larger too: [`SpectrumError::ParallelFaces`]. A row with a corner that no other row
+//! involves is *freed*: it holds for exactly one value there whatever the others are, so the
+//! structure is read without it and every kernel vector extended to that corner (rows on
+//! jagged open boundaries, ribbons freed from end to end). [`Spectrum::kernel`] reports what was found;
 //! [`SpectrumOptions::include_kernel`] lists its eigenvalue `0` among the `k` of smallest `|λ|`,
 //! with a mass-orthonormal basis (by piece: its constant and its linear function if it has
 //! one, or its functions of rulings; then `δ_p / √Ā_p`).
@@ -76,6 +79,7 @@
 //! makes [`SpectrumError::NotConverged`], which carries the pairs that pass and says what the
 //! others tell ([`Unaccepted`]).
 
+mod determined;
 mod first_order;
 mod flatness;
 mod kernel;
@@ -84,7 +88,6 @@ mod solve;
 
 use std::any::Any;
 use std::borrow::Cow;
-use std::collections::HashMap;
 use std::fmt;
 use std::str::FromStr;
 
@@ -95,8 +98,8 @@ use thiserror::Error;
 
 use first_order::Unremoved;
 use flatness::{NEARLY_FLAT, flatness_around};
-use kernel::ExactKernel;
 pub use kernel::KernelSummary;
+use kernel::{ExactKernel, KernelStructure};
 use pencil::{Matrices, OperatorPencil, PencilSpec};
 use solve::{Pairs, SolveError, Solved, products};
 
@@ -1094,9 +1097,8 @@ fn nearly_singular_message(
             return format!(
                 "the operator is numerically singular{place} (the nearly flat faces around it \
                  are flat already, within the flat tolerance {tolerance:.0e}): it vanishes \
-                 there, or nearly, on functions that the exact kernel does not remove (on an \
-                 open mesh, a corner that belongs to a single boundary face leaves that face's \
-                 row free, and thin strips have fewer rows than unknowns); {FAMILY}"
+                 there, or nearly, on functions that the exact kernel does not remove (neither \
+                 flat vertices nor modes of the pieces its rows join); {FAMILY}"
             );
         }
         None => (
@@ -1334,21 +1336,20 @@ fn solve_pencil<T: Scalar<Real = f64>>(
             },
         });
     }
-    let (pieces, linear, ruled) = match first_order {
-        Some(k) => (k.pieces, k.linear, k.ruled),
-        None => (kernel::pieces(mesh, &spec.flat), Vec::new(), HashMap::new()),
+    let structure = match first_order {
+        Some(k) => k.structure,
+        None => KernelStructure::of_pieces(kernel::pieces(mesh, &spec.flat)),
     };
     // The zeroed part of the coupling (as large as the coupling) only judges the modes: it is
     // dropped before the solve.
     let kernel = ExactKernel::find(
         mesh,
+        &masses,
         &spec.flat,
-        pieces,
+        structure,
         &spec.solved().stiffness,
         &spec.solved().coupling,
         spec.zeroed_coupling()?.as_ref(),
-        linear,
-        ruled,
     );
     let listed = if options.include_kernel {
         kernel.summary().dimension.min(options.k)
