@@ -13,6 +13,7 @@ use dirac::spectrum::{
     Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
     relative_spectrum, spectrum,
 };
+use dirac::well::{PotentialWell, dirac_with_well};
 use proptest::prelude::*;
 use qeig::dense::hermitian_eigen;
 use qscalar::random::SplitMix64;
@@ -1089,6 +1090,40 @@ fn rows_freed_by_a_corner_in_no_other_row_leave_their_kernel() {
     }
 }
 
+/// Rows where the well's potential `U` is not zero are freed too, with their own coefficients
+/// `−e_p / (2A) + U_p / 3`, which do not sum to zero: in a well, the ribbon's kernel is that of
+/// a dense solve of the pencils of `D_U`, and so are its spectra. Before, relative Dirac stopped
+/// with "numerically singular" and the squared operator listed two eigenvalues near `10⁻¹⁴`.
+#[test]
+fn rows_with_a_potential_are_freed_with_their_own_coefficients() {
+    let mesh = wavy_ribbon(30);
+    let well = PotentialWell {
+        center: None,
+        radius: 1.5,
+        steepness: 5.0,
+        height: 20.0,
+    };
+    let potential = well.potential(&mesh).unwrap();
+    let d = dirac_with_well(&mesh, &normal_dirac(&mesh).unwrap(), &potential).unwrap();
+    let pencil = DiracPencil::new(&mesh, &d).unwrap();
+    let masses = barycentric_masses(&mesh);
+    let options = |operator| {
+        let mut options = SpectrumOptions::new(operator, 8);
+        options.well = Some(well);
+        options
+    };
+    let (kernel, reference) =
+        dense_reference_with_numerical_kernel(&pencil.stiffness, &pencil.coupling, &masses);
+    assert_eq!(kernel, 2);
+    let got = spectrum(&mesh, &options(Operator::RelativeDirac)).unwrap();
+    assert_eq!(got.kernel.dimension, kernel, "{:?}", got.kernel);
+    assert_matches(&got.eigenvalues, &reference, "D_U");
+    let (kernel, nonzero) = dense_squared(&pencil.stiffness, &masses);
+    let squared = spectrum(&mesh, &options(Operator::Squared)).unwrap();
+    assert_eq!(squared.kernel.dimension, kernel, "{:?}", squared.kernel);
+    assert_matches(&squared.eigenvalues, &nonzero, "D_U* D_U");
+}
+
 /// The faces of `mesh` whose centroids lie below the plane `normal · x = offset`, with the
 /// vertices they use renumbered in order: an open surface with a jagged boundary. `None` where
 /// that is no valid mesh (fewer than 8 vertices, or a vertex whose faces form two fans).
@@ -1113,7 +1148,7 @@ fn cut_open(mesh: &TriMesh, normal: [f64; 3], offset: f64) -> Option<TriMesh> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(600))]
+    #![proptest_config(ProptestConfig::with_cases(200))]
 
     /// A cube of `3 × 3` grids or a cylinder with flat caps, rotated, cut open by a plane: flat
     /// panels, creases whose normals agree to rounding, curved parts, jagged boundaries with
@@ -1137,8 +1172,15 @@ proptest! {
         let masses = barycentric_masses(&mesh);
         let pencil = DiracPencil::new(&mesh, &normal_dirac(&mesh).unwrap()).unwrap();
         let (kernel, nonzero) = dense_squared(&pencil.stiffness, &masses);
+        let squared = spectrum(&mesh, &SpectrumOptions::new(Operator::Squared, 4));
+        // Only flat faces left (a panel cut out): `A` is rounding, the dense "nonzero" ones too.
+        if nonzero.last().is_none_or(|&largest| largest < 1e-12) {
+            let vanishing = matches!(squared, Err(SpectrumError::VanishingOperator { .. }));
+            prop_assert!(vanishing, "{:?}", squared);
+            return Ok(());
+        }
         prop_assume!(nonzero.len() >= 4);
-        let squared = spectrum(&mesh, &SpectrumOptions::new(Operator::Squared, 4)).unwrap();
+        let squared = squared.unwrap();
         prop_assert_eq!(squared.kernel.dimension, kernel);
         assert_matches_to(&squared.eigenvalues, &nonzero, "squared", 1e-6);
         let (kernel, reference) =

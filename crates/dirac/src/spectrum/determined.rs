@@ -17,15 +17,17 @@ use qscalar::Scalar;
 use qsparse::SparseVector;
 
 /// How one determined corner follows from two other vertices of its row:
-/// `ψ_corner = ψ_base + weight (ψ_toward − ψ_base)`, `weight` on the left as the operator's
-/// coefficients are. (A row `Σ_p e_p ψ_p = 0` with `e_a + e_b + e_c = 0` solved for `c` gives
-/// `ψ_c = ψ_a − e_c⁻¹ e_b (ψ_b − ψ_a)`: exactly `ψ_a` where the others are equal, as on a
-/// constant.)
+/// `ψ_corner = base_weight ψ_base + weight (ψ_toward − ψ_base)`, weights on the left as the
+/// operator's coefficients are. (A row `Σ_p e_p ψ_p = 0` of `D_{f,f2}`, whose coefficients
+/// sum to zero, solved for `c` gives `ψ_c = ψ_a − e_c⁻¹ e_b (ψ_b − ψ_a)`, with `base_weight`
+/// exactly 1: `ψ_a` where the others are equal, as on a constant. A row with a potential does
+/// not sum to zero.)
 #[derive(Debug, Clone, Copy)]
 struct Determination<T> {
     corner: usize,
     base: usize,
     toward: usize,
+    base_weight: T,
     weight: T,
 }
 
@@ -48,9 +50,9 @@ impl<T> Default for DeterminedCorners<T> {
 }
 
 impl<T: Scalar<Real = f64>> DeterminedCorners<T> {
-    /// Records that `corner` is `ψ_base + weight (ψ_toward − ψ_base)`; `base` and `toward`
-    /// are not determined yet.
-    pub fn push(&mut self, corner: usize, base: usize, toward: usize, weight: T) {
+    /// Records that `corner` is `base_weight ψ_base + weight (ψ_toward − ψ_base)`; `base` and
+    /// `toward` are not determined yet.
+    pub fn push(&mut self, corner: usize, base: usize, toward: usize, base_weight: T, weight: T) {
         let step = self.steps.len();
         self.readers.entry(base).or_default().push(step);
         if toward != base {
@@ -60,6 +62,7 @@ impl<T: Scalar<Real = f64>> DeterminedCorners<T> {
             corner,
             base,
             toward,
+            base_weight,
             weight,
         });
     }
@@ -103,10 +106,11 @@ impl<T: Scalar<Real = f64>> DeterminedCorners<T> {
                 corner,
                 base,
                 toward,
+                base_weight,
                 weight,
             } = self.steps[step];
             let at = |v| values.get(&v).copied().unwrap_or_else(T::zero);
-            let value = at(base) + weight * (at(toward) - at(base));
+            let value = base_weight * at(base) + weight * (at(toward) - at(base));
             if value != T::zero() {
                 values.insert(corner, value);
             }

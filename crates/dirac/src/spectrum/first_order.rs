@@ -352,7 +352,7 @@ pub(super) fn first_order_kernel(
 /// [`SecondTriangle::Segment`] (every coefficient `f2_r − f2_q` is nonzero), the two
 /// coinciding corners of a [`SecondTriangle::Pair`] (it asks `ψ_a = ψ_b`), and none of a
 /// [`SecondTriangle::Point`]. Rows where the well's potential is not zero at a corner involve
-/// all three and are never freed: their coefficients are not those of `D_{f,f2}`.
+/// the corners where their coefficients ([`Row::Well`]) are not zero.
 struct FreedRows {
     /// By face: its row is freed.
     freed: Vec<bool>,
@@ -372,21 +372,22 @@ impl FreedRows {
         skipped: &[bool],
         potential: Option<&[f64]>,
     ) -> Self {
-        // By face: bit `i` if the row involves corner `i`, and whether it may be freed.
-        const FREEABLE: u8 = 1 << 3;
+        // By face: bit `i` if the row involves corner `i`.
         let mut rows = vec![0u8; mesh.face_count()];
         let mut involving = vec![0u32; mesh.vertex_count()];
         let mut in_a_row = vec![false; mesh.vertex_count()];
+        let row_of = |t: usize| Row::of(mesh, triangles.positions, potential, t);
         for (t, face, triangle) in triangles.classified(mesh, skipped) {
-            let in_well = potential.is_some_and(|u| face.iter().any(|&p| u[p] != 0.0));
             let corner = |v| 1u8 << face.iter().position(|&p| p == v).unwrap_or(0);
-            let corners = match triangle {
-                _ if in_well => 0b111,
-                SecondTriangle::Point => 0,
-                SecondTriangle::Pair(a, b) => corner(a) | corner(b),
-                SecondTriangle::Segment | SecondTriangle::Triangle(_) => 0b111,
+            let corners = match (row_of(t), triangle) {
+                (Row::Well(c), _) => (0..3)
+                    .filter(|&i| c[i] != Quat::from_real(0.0))
+                    .fold(0, |m, i| m | 1 << i),
+                (_, SecondTriangle::Point) => 0,
+                (_, SecondTriangle::Pair(a, b)) => corner(a) | corner(b),
+                (_, SecondTriangle::Segment | SecondTriangle::Triangle(_)) => 0b111,
             };
-            rows[t] = corners | if in_well { 0 } else { FREEABLE };
+            rows[t] = corners;
             for i in 0..3 {
                 involving[face[i]] += u32::from(corners & (1 << i) != 0);
                 in_a_row[face[i]] = true;
@@ -406,13 +407,13 @@ impl FreedRows {
                 let i = mesh.faces()[t].iter().position(|&p| p == v).unwrap_or(0);
                 rows[t] & (1 << i) != 0
             });
-            let Some(t) = row.filter(|&t| involving[v] == 1 && rows[t] & FREEABLE != 0) else {
+            let Some(t) = row.filter(|_| involving[v] == 1) else {
                 continue;
             };
             let face = mesh.faces()[t];
             let involved: Vec<usize> = (0..3).filter(|i| rows[t] & (1 << i) != 0).collect();
             let free = |i: usize| involving[face[i]] == 1;
-            determine(face, &involved, free, triangles.positions, &mut determined);
+            row_of(t).determine(face, &involved, free, &mut determined);
             (rows[t], freed[t]) = (0, true);
             for &i in &involved {
                 involving[face[i]] -= 1;
@@ -433,37 +434,87 @@ impl FreedRows {
     }
 }
 
-/// Records how a corner of the row of `face` that no other row involves (`free`) follows from
-/// the row's other `involved` corners (indices into `face`), `f2` the second surface. Of
-/// several such corners of a proper row, the one with the longest opposite edge of `f2` (the
-/// largest coefficient) is determined.
-fn determine(
-    face: [usize; 3],
-    involved: &[usize],
-    free: impl Fn(usize) -> bool,
-    f2: &[[f64; 3]],
-    determined: &mut DeterminedCorners<Quat<f64>>,
-) {
-    if let [i, j] = *involved {
-        // A pair asks `ψ_a = ψ_b`: the free corner takes its partner's value.
-        let (leaf, other) = if free(i) {
-            (face[i], face[j])
-        } else {
-            (face[j], face[i])
-        };
-        determined.push(leaf, other, other, Quat::from_real(0.0));
-        return;
+/// The coefficients of a row of `D_{f,f2}`, up to a common factor.
+enum Row {
+    /// `e_p = f2_r − f2_q` at corner `p` (`q → r` the edge opposite it), which sum to zero.
+    Dirac([[f64; 3]; 3]),
+    /// With the well's potential `U` not zero at a corner: `−e_p / (2A) + U_p / 3`.
+    Well([Quat<f64>; 3]),
+}
+
+impl Row {
+    /// The row of face `t` of `mesh`, for the second surface `f2` and the well's `potential`.
+    fn of(mesh: &TriMesh, f2: &[[f64; 3]], potential: Option<&[f64]>, t: usize) -> Self {
+        let face = mesh.faces()[t];
+        let e = |i: usize| sub(f2[face[(i + 2) % 3]], f2[face[(i + 1) % 3]]);
+        match potential.filter(|u| face.iter().any(|&p| u[p] != 0.0)) {
+            None => Row::Dirac([e(0), e(1), e(2)]),
+            Some(u) => {
+                let scale = -1.0 / (2.0 * mesh.face_area(t));
+                let c =
+                    |i: usize| Quat::from_vector(e(i)) * scale + Quat::from_real(u[face[i]] / 3.0);
+                Row::Well([c(0), c(1), c(2)])
+            }
+        }
     }
-    // The edge of `f2` opposite corner `i`: `e_i = f2_b − f2_a` for the cyclic `(i, a, b)`.
-    let opposite = |i: usize| sub(f2[face[(i + 2) % 3]], f2[face[(i + 1) % 3]]);
-    let i = (0..3)
-        .filter(|&i| free(i))
-        .max_by(|&a, &b| norm(opposite(a)).total_cmp(&norm(opposite(b))))
-        .unwrap_or(0);
-    // `ψ_c = ψ_a − e_c⁻¹ e_b (ψ_b − ψ_a)`, with `e_c⁻¹ = −e_c / |e_c|²` (`e_c` imaginary).
-    let (e_c, e_b) = (opposite(i), opposite((i + 2) % 3));
-    let weight = Quat::from_vector(e_c) * Quat::from_vector(e_b) * (1.0 / dot(e_c, e_c));
-    determined.push(face[i], face[(i + 1) % 3], face[(i + 2) % 3], weight);
+
+    /// The coefficient at corner `i`.
+    fn coefficient(&self, i: usize) -> Quat<f64> {
+        match self {
+            Row::Dirac(e) => Quat::from_vector(e[i]),
+            Row::Well(c) => c[i],
+        }
+    }
+
+    /// Records how a corner of this row of `face` that no other row involves (`free`) follows
+    /// from its other `involved` corners (indices into `face`). Of several such corners, the
+    /// one with the largest coefficient is determined:
+    /// `ψ_c = −c_c⁻¹ (c_a ψ_a + c_b ψ_b) = −c_c⁻¹ (c_a + c_b) ψ_a − c_c⁻¹ c_b (ψ_b − ψ_a)`, whose
+    /// first factor is exactly 1 for a row of `D_{f,f2}` (its coefficients sum to zero).
+    fn determine(
+        &self,
+        face: [usize; 3],
+        involved: &[usize],
+        free: impl Fn(usize) -> bool,
+        determined: &mut DeterminedCorners<Quat<f64>>,
+    ) {
+        let one = Quat::from_real(1.0);
+        if let (Row::Dirac(_), [i, j]) = (self, involved) {
+            // A pair asks `ψ_a = ψ_b`: the free corner takes its partner's value.
+            let (leaf, other) = if free(*i) {
+                (face[*i], face[*j])
+            } else {
+                (face[*j], face[*i])
+            };
+            determined.push(leaf, other, other, one, Quat::from_real(0.0));
+            return;
+        }
+        let Some(&i) = (involved.iter()).filter(|&&i| free(i)).max_by(|&&a, &&b| {
+            self.coefficient(a)
+                .abs()
+                .total_cmp(&self.coefficient(b).abs())
+        }) else {
+            return;
+        };
+        let others: Vec<usize> = involved.iter().copied().filter(|&j| j != i).collect();
+        let inverse = -self.coefficient(i).inv();
+        let (base, toward) = match others[..] {
+            [a, b] => (a, b),
+            [a] => (a, a),
+            _ => (i, i),
+        };
+        let base_weight = match self {
+            Row::Dirac(_) => one,
+            Row::Well(_) if others.is_empty() => Quat::from_real(0.0),
+            Row::Well(c) => inverse * others.iter().map(|&j| c[j]).sum::<Quat<f64>>(),
+        };
+        let weight = if toward == base {
+            Quat::from_real(0.0)
+        } else {
+            inverse * self.coefficient(toward)
+        };
+        determined.push(face[i], face[base], face[toward], base_weight, weight);
+    }
 }
 
 /// Pieces whose kernel propagation does not bound, and whose rigid parts have more
