@@ -348,20 +348,7 @@ fn spectrum<'py>(
     relative_to: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
-    // Checked before the reference is built from the faces, which would otherwise name a face
-    // whose vertex the shorter reference lacks as an invalid mesh.
-    let reference = relative_to
-        .map(|positions| match positions.as_array().nrows() {
-            rows if rows == mesh.vertex_count() => convert::mesh(py, &positions, &faces),
-            rows => Err(spectrum_error(
-                py,
-                &SpectrumError::ReferenceConnectivity(ConnectivityMismatch::VertexCount {
-                    this: mesh.vertex_count(),
-                    other: rows,
-                }),
-            )),
-        })
-        .transpose()?;
+    let reference = reference_mesh(py, &mesh, &faces, relative_to)?;
     let options = request.options(py)?;
     // A limit beyond what a clock can hold is no limit.
     let deadline = (request.time_limit)
@@ -415,21 +402,51 @@ fn spectrum<'py>(
     }
 }
 
+/// The surface `(relative_to, F)` of `mesh`'s triangulation, if given. Its vertex count is
+/// checked before it is built from the faces, which would otherwise name a face whose vertex
+/// the shorter reference lacks as an invalid mesh.
+fn reference_mesh(
+    py: Python<'_>,
+    mesh: &dirac::TriMesh,
+    faces: &PyReadonlyArray2<'_, i64>,
+    relative_to: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<Option<dirac::TriMesh>> {
+    relative_to
+        .map(|positions| match positions.as_array().nrows() {
+            rows if rows == mesh.vertex_count() => convert::mesh(py, &positions, faces),
+            rows => Err(spectrum_error(
+                py,
+                &SpectrumError::ReferenceConnectivity(ConnectivityMismatch::VertexCount {
+                    this: mesh.vertex_count(),
+                    other: rows,
+                }),
+            )),
+        })
+        .transpose()
+}
+
 /// The eigenproblem `P x = λ Q x` of the request's operator: a dict with `stiffness` and
 /// `coupling` (CSC parts, see [`convert::csc`]) in `form` `"real"` (`4n × 4n`) or
-/// `"complex"` (`2n × 2n`), `mass (n,)` and `scale`.
+/// `"complex"` (`2n × 2n`), `mass (n,)` and `scale`; relative to the surface
+/// `(relative_to, F)` when given (`D_{f1,f2}`).
 #[pyfunction]
+#[pyo3(signature = (vertices, faces, request, form, relative_to = None))]
 fn eigenproblem<'py>(
     py: Python<'py>,
     vertices: PyReadonlyArray2<'py, f64>,
     faces: PyReadonlyArray2<'py, i64>,
     request: Request,
     form: &str,
+    relative_to: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mesh = convert::mesh(py, &vertices, &faces)?;
+    let reference = reference_mesh(py, &mesh, &faces, relative_to)?;
     let options = request.options(py)?;
-    let problem = run_detached(py, request.threads, || dirac::eigenproblem(&mesh, &options))?
-        .map_err(|e| spectrum_error(py, &e))?;
+    let problem = run_detached(py, request.threads, || match &reference {
+        Some(reference) => dirac::relative_eigenproblem(&mesh, reference, &options),
+        None => dirac::eigenproblem(&mesh, &options),
+    })?
+    .map_err(|e| spectrum_error(py, &e))?;
     let dict = PyDict::new(py);
     match form {
         "real" => {

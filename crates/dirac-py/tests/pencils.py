@@ -20,6 +20,7 @@ def dense_reference(
     operator: str,
     tau: float | None = None,
     threshold: float = 1e-10,
+    relative_to: np.ndarray | None = None,
 ) -> tuple[int, np.ndarray]:
     """``(dim ker P, the nonzero λ of P x = λ Q x)`` for ``operator`` in the real ``4n × 4n``
     form, each quaternionic eigenvalue 4 times (and the real operators' as ``L ⊗ I₄``); the
@@ -31,8 +32,9 @@ def dense_reference(
     ``y + K c`` with ``y`` in the complement of ``span(K, Q K)`` where ``Kᵀ Q K = 0`` (the Dirac
     pencils), or is ``y`` in the complement of ``Q K`` where ``Kᵀ Q K`` is definite (the
     family with ``τ < 1``, whose constants are eigenvectors of ``λ = 0``); ``P`` is definite
-    there, so ``λ = 1/μ`` of the compressed pencil ``Zᵀ Q Z = μ Zᵀ P Z``."""
-    P, Q, _ = ds.operator_matrices(V, F, operator, tau=tau)
+    there, so ``λ = 1/μ`` of the compressed pencil ``Zᵀ Q Z = μ Zᵀ P Z``. With ``relative_to``,
+    the pencil of ``D_{f1,f2}`` relative to that surface."""
+    P, Q, _ = ds.operator_matrices(V, F, operator, tau=tau, relative_to=relative_to)
     P, Q = P.toarray(), Q.toarray()
     w, U = np.linalg.eigh(P)
     K = U[:, w <= threshold * w.max()]

@@ -8,7 +8,7 @@
 use dirac::generators::icosphere;
 use dirac::{
     ConnectivityMismatch, Normalization, Operator, SpectrumError, SpectrumOptions, TriMesh,
-    relative_spectrum, spectrum,
+    eigenproblem, relative_eigenproblem, relative_spectrum, spectrum,
 };
 use qscalar::Quat;
 
@@ -65,6 +65,12 @@ fn relative_to_itself_is_the_extrinsic_dirac_operator() {
         let want = spectrum(&mesh, &extrinsic).unwrap();
         assert_close(&got.eigenvalues, &want.eigenvalues, 1e-9, "D_{f,f} = D_f");
         assert_eq!(got.kernel.dimension, 1, "constants only");
+        // The matrices of the two eigenproblems are the same too (entries assembled alike).
+        let got = relative_eigenproblem(&mesh, &mesh, &relative).unwrap();
+        let want = eigenproblem(&mesh, &extrinsic).unwrap();
+        assert_eq!(got.stiffness.values(), want.stiffness.values());
+        assert_eq!(got.coupling.values(), want.coupling.values());
+        assert_eq!(got.scale, want.scale);
     }
 }
 
@@ -171,5 +177,7 @@ fn operators_without_the_gauss_map_refuse_a_reference() {
             "{operator}: {error}"
         );
         assert!(error.to_string().contains("relative-dirac"));
+        let error = relative_eigenproblem(&mesh, &mesh, &options(operator)).unwrap_err();
+        assert!(matches!(error, SpectrumError::ReferenceUnused { .. }));
     }
 }

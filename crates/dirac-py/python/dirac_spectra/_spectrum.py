@@ -324,11 +324,14 @@ def operator_matrices(
     *,
     anisotropy: float | None = None,
     flat_tolerance: float = DEFAULT_FLAT_TOLERANCE,
+    relative_to: npt.ArrayLike | None = None,
 ) -> OperatorMatrices:
     """The matrices ``P``, ``Q`` of the eigenproblem ``P x = λ Q x`` that :func:`spectrum` solves
     for ``operator`` (``A = D* M_F D`` and ``G = sym(Bᵀ M_F D)`` for the Dirac operators, ``L``
     and ``M`` for Laplace, …; see docs/PYTHON.md), as ``scipy.sparse`` CSC arrays, with the
-    vertex masses. The residuals of :func:`spectrum` are measured against exactly these."""
+    vertex masses. The residuals of :func:`spectrum` are measured against exactly these. With
+    ``relative_to``, those of ``spectrum(..., relative_to=...)``: the operator built on
+    ``D_{f1,f2}`` of ``V`` and the surface ``(relative_to, F)``."""
     request = _Request(
         operator=operator,
         tau=None if tau is None else float(tau),
@@ -345,7 +348,8 @@ def operator_matrices(
         threads=1,
     )
     vertices, faces = _arrays.vertices(V), _arrays.faces(F)
-    raw = translated()(_native.eigenproblem)(vertices, faces, request, form)
+    reference = None if relative_to is None else _arrays.vertices(relative_to)
+    raw = translated()(_native.eigenproblem)(vertices, faces, request, form, reference)
     return OperatorMatrices(_csc(raw["stiffness"]), _csc(raw["coupling"]), raw["mass"])
 
 

@@ -1139,12 +1139,32 @@ pub fn eigenproblem(
     mesh: &TriMesh,
     options: &SpectrumOptions,
 ) -> Result<Eigenproblem, SpectrumError> {
+    assembled_eigenproblem(mesh, None, options)
+}
+
+/// The eigenproblem [`relative_spectrum`] solves: `options.operator` built on `D_{f1,f2}` with
+/// `f2` the positions of `reference` in place of the Gauss map, as [`eigenproblem`] gives it.
+pub fn relative_eigenproblem(
+    mesh: &TriMesh,
+    reference: &TriMesh,
+    options: &SpectrumOptions,
+) -> Result<Eigenproblem, SpectrumError> {
+    check_reference(mesh, reference, options)?;
+    assembled_eigenproblem(mesh, Some(reference), options)
+}
+
+/// [`eigenproblem`] relative to `reference` if given.
+fn assembled_eigenproblem(
+    mesh: &TriMesh,
+    reference: Option<&TriMesh>,
+    options: &SpectrumOptions,
+) -> Result<Eigenproblem, SpectrumError> {
     validate_operator(options)?;
     let Assembled {
         scale,
         mesh,
         pencil,
-    } = assemble(mesh, None, options)?;
+    } = assemble(mesh, reference, options)?;
     let operator = pencil.into_quaternionic().operator;
     Ok(Eigenproblem {
         stiffness: operator.stiffness,
@@ -1234,13 +1254,23 @@ pub fn relative_spectrum_with_progress(
     options: &SpectrumOptions,
     progress: Option<ProgressCallback>,
 ) -> Result<Spectrum, SpectrumError> {
+    check_reference(mesh, reference, options)?;
+    compute(mesh, Some(reference), options, progress)
+}
+
+/// `options.operator` takes a second surface in place of the Gauss map, and `reference` has
+/// `mesh`'s triangulation.
+fn check_reference(
+    mesh: &TriMesh,
+    reference: &TriMesh,
+    options: &SpectrumOptions,
+) -> Result<(), SpectrumError> {
     if !options.operator.uses_gauss_map() {
         return Err(SpectrumError::ReferenceUnused {
             operator: options.operator,
         });
     }
-    mesh.check_same_connectivity(reference)?;
-    compute(mesh, Some(reference), options, progress)
+    Ok(mesh.check_same_connectivity(reference)?)
 }
 
 /// The spectrum of `options.operator` on `mesh`, relative to `reference` when given: a real
