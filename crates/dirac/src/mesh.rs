@@ -446,7 +446,7 @@ impl TriMesh {
     /// first failure is returned: non-empty; every index in range and distinct within its face;
     /// every vertex used by a face; finite coordinates; every face of positive area with a finite
     /// reciprocal and finite cotangents at its three corners
-    /// ([`corner_cotangent`](crate::geometry::corner_cotangent)); at most two faces per edge;
+    /// ([`corner_cotangent`]); at most two faces per edge;
     /// neighbouring faces traversing their shared edge in opposite directions; the faces around
     /// each vertex forming a single fan. Boundaries and several components are allowed.
     pub fn new(positions: Vec<[f64; 3]>, faces: Vec<[usize; 3]>) -> Result<Self, MeshError> {
