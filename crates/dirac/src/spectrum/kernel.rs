@@ -523,10 +523,9 @@ fn orthogonalise_at_determined_corners<T: Scalar<Real = f64>>(
             for _ in 0..2 {
                 for &j in &group[..position] {
                     let (earlier, mode) = (&modes[j].vector, &modes[i].vector);
-                    let along = mass_weighted(masses, earlier);
-                    let c = along
+                    let c = mass_weighted(masses, earlier)
                         .inner_sparse(mode)
-                        .scale(1.0 / along.inner_sparse(earlier).re());
+                        .scale(1.0 / mass_norm_squared(masses, earlier));
                     modes[i].vector = mode.minus_times(earlier, c);
                 }
             }
@@ -549,8 +548,12 @@ pub(super) fn pivots<T: Scalar<Real = f64>>(vectors: &[SparseVector<T>]) -> Vec<
     for i in 0..work.len() {
         let (earlier, later) = work.split_at_mut(i + 1);
         let row = &earlier[i];
-        let Some((&pin, &value)) =
-            (row.rows.iter().zip(&row.values)).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        // A vector eliminated to zero (dependent on the earlier ones, which checked modes are
+        // not) has no pivot: it keeps its first row, as an empty one does, rather than
+        // dividing by zero.
+        let Some((&pin, &value)) = (row.rows.iter().zip(&row.values))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .filter(|(_, value)| value.abs() > 0.0)
         else {
             pins.push(vectors[i].rows.first().copied().unwrap_or(0));
             continue;
@@ -738,5 +741,39 @@ impl Reduction {
             x[p] = v.scale(w);
         }
         x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vector(entries: &[(usize, f64)]) -> SparseVector<f64> {
+        SparseVector {
+            rows: entries.iter().map(|e| e.0).collect(),
+            values: entries.iter().map(|e| e.1).collect(),
+        }
+    }
+
+    #[test]
+    fn pivots_are_rows_where_no_combination_vanishes() {
+        // Both vectors are largest at row 1; the second, eliminated there, keeps row 2.
+        let vectors = [
+            vector(&[(0, 0.5), (1, 2.0), (2, 0.1)]),
+            vector(&[(1, 1.0), (2, 0.3)]),
+        ];
+        let pins = pivots(&vectors);
+        assert_eq!(pins, [1, 2]);
+        // The 2 × 2 matrix of the vectors at the pins is not singular.
+        let at = |v: &SparseVector<f64>, row| v.to_dense(3)[row];
+        let det = at(&vectors[0], pins[0]) * at(&vectors[1], pins[1])
+            - at(&vectors[0], pins[1]) * at(&vectors[1], pins[0]);
+        assert!(det.abs() > 0.1, "determinant {det}");
+    }
+
+    #[test]
+    fn a_dependent_vector_has_no_pivot_and_no_division_by_zero() {
+        let vectors = [vector(&[(3, 1.0), (4, 2.0)]), vector(&[(3, 2.0), (4, 4.0)])];
+        assert_eq!(pivots(&vectors), [4, 3]);
     }
 }
