@@ -6,6 +6,7 @@ use clap::{CommandFactory, Parser, Subcommand};
 use crate::commands::batch::{self, BatchArgs};
 use crate::commands::descriptor::{self, DescriptorArgs};
 use crate::commands::eigenfunctions::{self, EigenfunctionsArgs};
+use crate::commands::matrices::{self, MatricesArgs};
 use crate::commands::plot::{self, PlotArgs, PlotCommand};
 use crate::commands::render::{self, RenderArgs};
 use crate::commands::repair::{self, RepairArgs};
@@ -13,7 +14,7 @@ use crate::commands::segment::{self, SegmentArgs};
 use crate::commands::segment_eval::{self, SegmentEvalArgs};
 use crate::commands::spectrum::{self, SpectrumArgs};
 use crate::common::error::CliError;
-use crate::common::solve_args::SolveArgs;
+use crate::common::solve_args::{ProblemArgs, SolveArgs};
 
 const AFTER_HELP: &str = "\
 Exit codes:
@@ -47,6 +48,10 @@ pub enum Command {
     /// Eigenvalues and eigenvectors to .npy files, or |φ_I| on the mesh to a .ply.
     #[command(after_help = eigenfunctions::AFTER_HELP)]
     Eigenfunctions(EigenfunctionsArgs),
+    /// The eigenproblem P x = λ Q x of an operator (the matrices `spectrum` solves) to Matrix
+    /// Market files, to check a result with another solver.
+    #[command(after_help = matrices::AFTER_HELP)]
+    Matrices(MatricesArgs),
     /// Per-vertex descriptors (HKS, DKS, WKS, segmentation, eigenvectors) to .csv or .npy.
     #[command(after_help = descriptor::AFTER_HELP)]
     Descriptor(DescriptorArgs),
@@ -78,6 +83,7 @@ impl Command {
         match self {
             Command::Spectrum(_) => &["spectrum"],
             Command::Eigenfunctions(_) => &["eigenfunctions"],
+            Command::Matrices(_) => &["matrices"],
             Command::Descriptor(_) => &["descriptor"],
             Command::Batch(_) => &["batch"],
             Command::Render(_) => &["render"],
@@ -102,7 +108,15 @@ impl Command {
             Command::Plot(PlotArgs {
                 chart: PlotCommand::Spectra(args),
             }) => Some(&args.solve),
-            Command::Repair(_) | Command::SegmentEval(_) => None,
+            Command::Matrices(_) | Command::Repair(_) | Command::SegmentEval(_) => None,
+        }
+    }
+
+    /// The options that define the command's eigenproblem.
+    fn problem_args(&self) -> Option<&ProblemArgs> {
+        match self {
+            Command::Matrices(args) => Some(&args.problem),
+            other => other.solve_args().map(|solve| &solve.problem),
         }
     }
 }
@@ -111,16 +125,16 @@ impl Command {
 /// error of the command with its usage line, as clap formats its own.
 pub fn dispatch(command: &Command) -> Result<(), CliError> {
     // What every solving command checks and sets before it runs.
-    let prepared = match command.solve_args() {
-        Some(solve) => {
-            solve.apply_thread_setting();
-            solve.preparation.check()
-        }
-        None => Ok(()),
-    };
+    if let Some(solve) = command.solve_args() {
+        solve.apply_thread_setting();
+    }
+    let prepared = command
+        .problem_args()
+        .map_or(Ok(()), |problem| problem.preparation.check());
     let outcome = prepared.and_then(|()| match command {
         Command::Spectrum(args) => spectrum::run(args),
         Command::Eigenfunctions(args) => eigenfunctions::run(args),
+        Command::Matrices(args) => matrices::run(args),
         Command::Descriptor(args) => descriptor::run(args),
         Command::Batch(args) => batch::run(args),
         Command::Render(args) => render::run(args),

@@ -335,6 +335,7 @@ impl Job<'_> {
             .and_then(|raw| {
                 self.args
                     .solve
+                    .problem
                     .preparation
                     .prepare(raw, mesh_path, name.clone())
             });

@@ -253,7 +253,7 @@ pub fn run(args: &DescriptorArgs) -> Result<(), CliError> {
         args.solve.use_laplacian(&mut options, "hks");
     }
     let (prepared, reference) = args.reference.load_with_mesh(
-        &args.solve.preparation,
+        &args.solve.problem.preparation,
         args.mesh.as_deref(),
         options.operator,
         args.quiet,

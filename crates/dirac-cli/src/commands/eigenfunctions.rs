@@ -136,7 +136,7 @@ pub fn run(args: &EigenfunctionsArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let output = output(args)?;
     let (prepared, reference) = args.reference.load_with_mesh(
-        &args.solve.preparation,
+        &args.solve.problem.preparation,
         args.mesh.as_deref(),
         options.operator,
         args.quiet,

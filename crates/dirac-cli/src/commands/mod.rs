@@ -5,6 +5,7 @@
 pub mod batch;
 pub mod descriptor;
 pub mod eigenfunctions;
+pub mod matrices;
 pub mod plot;
 pub mod render;
 pub mod repair;

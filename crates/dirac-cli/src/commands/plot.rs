@@ -80,7 +80,7 @@ pub fn run(args: &PlotArgs) -> Result<(), CliError> {
 
 fn plot(args: &SpectraArgs) -> Result<(), CliError> {
     let choices = if args.operators.is_empty() {
-        vec![args.solve.operator]
+        vec![args.solve.problem.operator]
     } else {
         args.operators.clone()
     };
@@ -97,7 +97,8 @@ fn plot(args: &SpectraArgs) -> Result<(), CliError> {
     let mut series = Vec::new();
     let mut mesh_names = Vec::new();
     for path in paths {
-        let PreparedMesh { mesh, name, .. } = args.solve.preparation.load(path, args.quiet)?;
+        let PreparedMesh { mesh, name, .. } =
+            args.solve.problem.preparation.load(path, args.quiet)?;
         // Legends and titles name a file by its name alone; directories make them too long.
         let name = path
             .and_then(|p| p.file_name())

@@ -198,7 +198,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         ));
     }
     let (prepared, reference) = args.reference.load_with_mesh(
-        &args.solve.preparation,
+        &args.solve.problem.preparation,
         args.mesh.as_deref(),
         options.operator,
         args.quiet,
@@ -260,7 +260,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     render_png(&mesh, &fields, &render_options, &args.out)?;
     if !args.quiet {
-        let operator = args.solve.operator;
+        let operator = args.solve.problem.operator;
         let what = match shading {
             Shading::Potential(_) => "the potential".to_string(),
             Shading::Modes(_) => format!("{count} eigenfunction(s) of {operator}"),

@@ -240,6 +240,7 @@ pub fn run(args: &SegmentArgs) -> Result<(), CliError> {
         mesh, name, report, ..
     } = args
         .solve
+        .problem
         .preparation
         .load(args.mesh.as_deref(), args.quiet)?;
     let solved = solve(&mesh, None, &name, &options, args.quiet)?;
@@ -351,7 +352,7 @@ fn write_output(
             let title = format!(
                 "{short}: {} segments, {}",
                 segmentation.segment_count(),
-                args.solve.operator
+                args.solve.problem.operator
             );
             render_segments_png(mesh, labels, &title, &options, &args.out)?;
         }

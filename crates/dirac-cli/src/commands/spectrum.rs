@@ -42,7 +42,7 @@ pub fn run(args: &SpectrumArgs) -> Result<(), CliError> {
     let options = args.solve.options();
     let start = Instant::now();
     let (prepared, reference) = args.reference.load_with_mesh(
-        &args.solve.preparation,
+        &args.solve.problem.preparation,
         args.mesh.as_deref(),
         options.operator,
         args.quiet,

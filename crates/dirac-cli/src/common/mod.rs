@@ -4,6 +4,7 @@
 
 pub mod error;
 pub mod files;
+pub mod matrix_market;
 pub mod parsers;
 pub mod preparation;
 pub mod progress;

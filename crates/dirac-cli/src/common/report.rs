@@ -129,12 +129,12 @@ impl RunSettings {
     /// The settings of a run with the command-line options `solve`, translated to `options`.
     pub fn new(solve: &SolveArgs, options: &SpectrumOptions) -> Self {
         Self {
-            operator: solve.operator.name().to_string(),
-            tau: solve.operator.tau(),
-            anisotropy: solve.operator.anisotropy(),
+            operator: solve.problem.operator.name().to_string(),
+            tau: solve.problem.operator.tau(),
+            anisotropy: solve.problem.operator.anisotropy(),
             k: solve.k,
             backend: value_name(&solve.backend),
-            normalize: value_name(&solve.normalize),
+            normalize: value_name(&solve.problem.normalize),
             well: options.well.map(|w| WellReport {
                 center: w.center,
                 radius: w.radius,
@@ -146,11 +146,15 @@ impl RunSettings {
             tolerance: options.tolerance,
             seed: options.seed,
             max_restarts: options.max_restarts,
-            repair: solve
-                .preparation
-                .repair
-                .then(|| solve.preparation.options.repair_options().merge_distance),
-            component: solve.preparation.options.component.to_string(),
+            repair: solve.problem.preparation.repair.then(|| {
+                solve
+                    .problem
+                    .preparation
+                    .options
+                    .repair_options()
+                    .merge_distance
+            }),
+            component: solve.problem.preparation.options.component.to_string(),
             relative_to: None,
         }
     }

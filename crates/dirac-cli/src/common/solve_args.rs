@@ -20,10 +20,11 @@ fn operator_help() -> String {
     )
 }
 
-/// The operator and eigensolver options shared by every command that computes a spectrum
-/// (flattened into each command's arguments).
+/// The options that define the eigenproblem `P x = λ Q x` of a mesh: the operator, the
+/// mesh's preparation and normalisation, the flat tolerance and the potential well (flattened
+/// into every command that solves or writes one).
 #[derive(Debug, Clone, Args)]
-pub struct SolveArgs {
+pub struct ProblemArgs {
     /// The operator (`Display` form of [`Operator`]: `relative-dirac`, `family:0.5`, …).
     #[arg(long, value_name = "OPERATOR", default_value_t = Operator::RelativeDirac,
           help = operator_help())]
@@ -38,6 +39,51 @@ pub struct SolveArgs {
     #[command(flatten)]
     pub preparation: MeshPreparation,
 
+    /// Scale normalisation applied to the mesh first.
+    #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
+    pub normalize: NormalizeArg,
+
+    /// Faces whose Gauss map is flat within T are treated as exactly flat (D_N vanishes on
+    /// them): along each edge |N_a − N_b| ≤ T |f_a − f_b| / √area. Exactly flat regions of
+    /// real meshes give 1e-13 or less, curved ones 1e-4 or more.
+    #[arg(long, value_name = "T", default_value_t = dirac::spectrum::DEFAULT_FLAT_TOLERANCE,
+          value_parser = nonnegative_real)]
+    pub flat_tolerance: f64,
+
+    /// Potential well (paper §5.1): radius β in geodesic distance; enables the well.
+    #[arg(long, value_name = "BETA", value_parser = nonnegative_real, help_heading = "Potential well")]
+    pub well_radius: Option<f64>,
+
+    /// Centre vertex of the well (0-based); default: the vertex nearest the area centroid.
+    #[arg(
+        long,
+        value_name = "V",
+        requires = "well_radius",
+        help_heading = "Potential well"
+    )]
+    pub well_center: Option<usize>,
+
+    /// Steepness γ of the well.
+    #[arg(long, value_name = "GAMMA", default_value_t = PotentialWell::with_radius(0.0).steepness,
+          value_parser = nonnegative_real, requires = "well_radius",
+          help_heading = "Potential well")]
+    pub well_steepness: f64,
+
+    /// Height c of the well.
+    #[arg(long, value_name = "C", default_value_t = PotentialWell::with_radius(0.0).height,
+          value_parser = nonnegative_real, requires = "well_radius",
+          help_heading = "Potential well")]
+    pub well_height: f64,
+}
+
+/// The operator and eigensolver options shared by every command that computes a spectrum
+/// (flattened into each command's arguments).
+#[derive(Debug, Clone, Args)]
+pub struct SolveArgs {
+    /// The eigenproblem.
+    #[command(flatten)]
+    pub problem: ProblemArgs,
+
     /// Number of eigenvalues (those of smallest |λ|).
     #[arg(short, default_value_t = 10, value_parser = positive_count)]
     pub k: usize,
@@ -45,10 +91,6 @@ pub struct SolveArgs {
     /// Representation the eigensolver works in.
     #[arg(long, value_enum, default_value_t = BackendArg::Native)]
     pub backend: BackendArg,
-
-    /// Scale normalisation applied to the mesh first.
-    #[arg(long, value_enum, default_value_t = NormalizeArg::None)]
-    pub normalize: NormalizeArg,
 
     /// Relative residual tolerance of the eigensolver. A pair is reported as converged when its
     /// residual ‖Pφ − λQφ‖ / (|λ| ‖Qφ‖) is at most 100 times this, or its backward error is at
@@ -78,42 +120,10 @@ pub struct SolveArgs {
     #[arg(long)]
     pub exclude_kernel: bool,
 
-    /// Faces whose Gauss map is flat within T are treated as exactly flat (D_N vanishes on
-    /// them): along each edge |N_a − N_b| ≤ T |f_a − f_b| / √area. Exactly flat regions of
-    /// real meshes give 1e-13 or less, curved ones 1e-4 or more.
-    #[arg(long, value_name = "T", default_value_t = dirac::spectrum::DEFAULT_FLAT_TOLERANCE,
-          value_parser = nonnegative_real)]
-    pub flat_tolerance: f64,
-
     /// Keep the eigensolver on one thread. By default the triangular solves and Gram–Schmidt
     /// passes of large problems use a second core (not inside `batch`, whose jobs already do).
     #[arg(long)]
     pub single_thread: bool,
-
-    /// Potential well (paper §5.1): radius β in geodesic distance; enables the well.
-    #[arg(long, value_name = "BETA", value_parser = nonnegative_real, help_heading = "Potential well")]
-    pub well_radius: Option<f64>,
-
-    /// Centre vertex of the well (0-based); default: the vertex nearest the area centroid.
-    #[arg(
-        long,
-        value_name = "V",
-        requires = "well_radius",
-        help_heading = "Potential well"
-    )]
-    pub well_center: Option<usize>,
-
-    /// Steepness γ of the well.
-    #[arg(long, value_name = "GAMMA", default_value_t = PotentialWell::with_radius(0.0).steepness,
-          value_parser = nonnegative_real, requires = "well_radius",
-          help_heading = "Potential well")]
-    pub well_steepness: f64,
-
-    /// Height c of the well.
-    #[arg(long, value_name = "C", default_value_t = PotentialWell::with_radius(0.0).height,
-          value_parser = nonnegative_real, requires = "well_radius",
-          help_heading = "Potential well")]
-    pub well_height: f64,
 }
 
 /// `--backend` values.
@@ -137,22 +147,11 @@ pub enum NormalizeArg {
     UnitArea,
 }
 
-impl SolveArgs {
-    /// The library options these arguments ask for. Pure: `--single-thread`, a process-wide
-    /// setting, is applied by the dispatcher ([`SolveArgs::apply_thread_setting`]).
-    pub fn options(&self) -> SpectrumOptions {
-        self.options_with(self.operator)
-    }
-
-    /// The options of [`SolveArgs::options`] with another operator (`dirac plot spectra
-    /// --operators`); the kernel is listed by that operator's default.
-    pub fn options_with(&self, operator: Operator) -> SpectrumOptions {
-        let mut options = SpectrumOptions::new(operator, self.k);
-        options.backend = match self.backend {
-            BackendArg::Native => SolverBackend::Native,
-            BackendArg::RealBlock => SolverBackend::RealBlock,
-            BackendArg::ComplexAdjoint => SolverBackend::ComplexAdjoint,
-        };
+impl ProblemArgs {
+    /// The library options of this eigenproblem for `operator` and `k` pairs, the
+    /// eigensolver's settings at their defaults.
+    pub fn options(&self, operator: Operator, k: usize) -> SpectrumOptions {
+        let mut options = SpectrumOptions::new(operator, k);
         options.normalization = match self.normalize {
             NormalizeArg::None => Normalization::None,
             NormalizeArg::UnitArea => Normalization::UnitArea,
@@ -163,10 +162,30 @@ impl SolveArgs {
             steepness: self.well_steepness,
             height: self.well_height,
         });
+        options.flat_tolerance = self.flat_tolerance;
+        options
+    }
+}
+
+impl SolveArgs {
+    /// The library options these arguments ask for. Pure: `--single-thread`, a process-wide
+    /// setting, is applied by the dispatcher ([`SolveArgs::apply_thread_setting`]).
+    pub fn options(&self) -> SpectrumOptions {
+        self.options_with(self.problem.operator)
+    }
+
+    /// The options of [`SolveArgs::options`] with another operator (`dirac plot spectra
+    /// --operators`); the kernel is listed by that operator's default.
+    pub fn options_with(&self, operator: Operator) -> SpectrumOptions {
+        let mut options = self.problem.options(operator, self.k);
+        options.backend = match self.backend {
+            BackendArg::Native => SolverBackend::Native,
+            BackendArg::RealBlock => SolverBackend::RealBlock,
+            BackendArg::ComplexAdjoint => SolverBackend::ComplexAdjoint,
+        };
         options.tolerance = self.tolerance;
         options.seed = self.seed;
         options.max_restarts = self.max_restarts;
-        options.flat_tolerance = self.flat_tolerance;
         options.include_kernel = self.lists_kernel(operator);
         options
     }
@@ -183,10 +202,13 @@ impl SolveArgs {
     /// the note), which is defined for the Laplacian only; a note on stderr says so when
     /// `--operator` asked for another operator than the default.
     pub fn use_laplacian(&self, options: &mut SpectrumOptions, what: &str) {
-        if !matches!(self.operator, Operator::Laplace | Operator::RelativeDirac) {
+        if !matches!(
+            self.problem.operator,
+            Operator::Laplace | Operator::RelativeDirac
+        ) {
             eprintln!(
                 "note: {what} uses the Laplace operator; --operator {} is ignored (the DKS uses it)",
-                self.operator
+                self.problem.operator
             );
         }
         options.operator = Operator::Laplace;
