@@ -142,7 +142,7 @@ struct Request {
     flat_tolerance: f64,
     #[pyo3(attribute)]
     threads: usize,
-    /// Seconds after which the eigensolver stops at its next restart (`None`: no limit);
+    /// Seconds after which the eigensolver stops, within about 0.1 s (`None`: no limit);
     /// validated by the Python side (finite, positive).
     #[pyo3(attribute)]
     time_limit: Option<f64>,
@@ -284,8 +284,9 @@ fn run_detached<T: Send>(
     }
 }
 
-/// [`run_detached`] for a solve that reports progress: after every restart the GIL is taken
-/// back briefly to check for signals (Ctrl-C raises `KeyboardInterrupt` within one restart)
+/// [`run_detached`] for a solve that reports progress: whenever the solver reports (after every
+/// restart, and between restarts at least every 0.1 s) the GIL is taken back briefly to check
+/// for signals (Ctrl-C raises `KeyboardInterrupt` within about 0.1 s)
 /// and to call `progress` with a dict of the solver's state; an exception from either stops
 /// the solve and is raised instead of its result. Past `deadline` the solve is stopped too,
 /// and returns what converged; the flag says whether the deadline stopped it.
@@ -323,7 +324,7 @@ fn run_reporting<T: Send>(
     failure.map_or(Ok((value, past_deadline)), Err)
 }
 
-/// The solver's state after a restart.
+/// The solver's state when it reports.
 fn progress_dict<'py>(py: Python<'py>, state: &Progress) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
     dict.set_item("round", state.round)?;

@@ -349,7 +349,9 @@ def test_progress_is_reported_and_an_exception_from_it_stops_the_solve():
     start = time.perf_counter()
     full = ds.spectrum(V, F, k=40, progress=states.append)
     full_seconds = time.perf_counter() - start
-    assert len(states) == full.statistics["restarts"] >= 3
+    # Every restart is reported, and steps between restarts at least every 0.1 s.
+    assert {s["restarts"] for s in states} >= set(range(1, full.statistics["restarts"] + 1))
+    assert full.statistics["restarts"] >= 3
     assert states[-1]["locked"] <= states[-1]["wanted"] == 40
     assert all(s["operator_applications"] > 0 for s in states)
 
@@ -370,14 +372,14 @@ def test_a_time_limit_stops_the_solver_with_what_converged():
     V, F = torus(160, 60)
     states = []
     full = ds.spectrum(V, F, k=40, progress=states.append)
-    # A limit that has passed at the first restart stops the solver there: the pairs locked
-    # by then, each the full solve's to its residuals.
+    # A limit that has passed at the first report (a restart, or a step 0.1 s into the solve)
+    # stops the solver there: the pairs locked by then, each the full solve's to its residuals.
     with pytest.raises(ds.NotConvergedError, match="stopped at the time limit of 0.000000001 s") as error:
         ds.spectrum(V, F, k=40, time_limit=1e-9)
     assert error.value.stopped_at_time_limit
     partial = error.value.partial
-    assert partial.statistics["restarts"] == 1 < full.statistics["restarts"]
-    assert len(partial.eigenvalues) == states[0]["locked"] < 40
+    assert partial.statistics["restarts"] <= 1 < full.statistics["restarts"]
+    assert len(partial.eigenvalues) < 40
     for value in partial.eigenvalues:
         assert np.min(np.abs(full.eigenvalues - value)) <= 1e-8 * abs(value)
     # A limit that leaves room changes nothing, even one beyond what a clock holds.

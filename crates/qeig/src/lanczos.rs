@@ -230,6 +230,12 @@ fn check_interval(size: usize) -> usize {
     (blocks * blocks).clamp(1, CHECK_INTERVAL)
 }
 
+/// The longest the iteration runs between two calls of the progress callback: besides after
+/// every restart, it is called after the first step this long after the last call, so that a
+/// caller stopping the run (Ctrl-C, a time limit) is heard within a step or so, not after a
+/// whole cycle (seconds on a 43k-vertex mesh with k = 500, a minute on a million vertices).
+const PROGRESS_INTERVAL: Duration = Duration::from_millis(100);
+
 /// Rounding level of an estimated residual relative to `‖A‖`: a Ritz pair with
 /// `|βₘ yₘ| ≤ ROUNDING ‖A‖` is an eigenpair of the computed operator up to the rounding errors
 /// of applying `A` (and of the coupling to the locked pairs, which the iteration cannot see),
@@ -377,6 +383,8 @@ struct Lanczos<'a, 'p, V, O: ?Sized> {
     op: &'a mut O,
     options: &'a LanczosOptions,
     progress: Option<ProgressCallback<'p>>,
+    /// When the progress callback was last called (or the iteration started).
+    reported: Instant,
     /// Pairs wanted (iteration space).
     k: usize,
     n: usize,
@@ -463,6 +471,7 @@ where
             op,
             options,
             progress,
+            reported: Instant::now(),
             k,
             n,
             deflation,
@@ -581,6 +590,9 @@ where
             }
             self.round_steps += 1;
             self.since_check += 1;
+            if self.reported.elapsed() >= PROGRESS_INTERVAL {
+                self.report_progress()?;
+            }
             if self.round_steps >= CHECK_INTERVAL
                 && self.since_check >= check_interval(self.expanded).max(self.check_delay)
                 && self.expanded < self.active
@@ -892,6 +904,7 @@ where
 
     /// Calls the progress callback; `Stopped` if it asks to stop.
     fn report_progress(&mut self) -> Result<(), Stopped> {
+        self.reported = Instant::now();
         let Some(callback) = self.progress.as_deref_mut() else {
             return Ok(());
         };
@@ -1097,8 +1110,74 @@ mod tests {
     use faer::Mat;
     use proptest::prelude::*;
 
-    use super::ReducedHead;
+    use std::ops::ControlFlow;
+    use std::time::{Duration, Instant};
+
+    use super::{HermitianOperator, LanczosOptions, PROGRESS_INTERVAL, ReducedHead, Which, run};
+    use crate::basis::Basis;
     use crate::dense::real_symmetric_eigen;
+    use crate::{EigError, Progress};
+
+    /// `diag(1, 2, …, n)`, applied in no less than `delay` each time: a stand-in for a large
+    /// problem whose cycles between restarts are long.
+    struct SlowDiagonal {
+        n: usize,
+        delay: Duration,
+    }
+
+    impl HermitianOperator<f64> for SlowDiagonal {
+        fn dim(&self) -> usize {
+            self.n
+        }
+
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+            std::thread::sleep(self.delay);
+            for (i, (y, x)) in y.iter_mut().zip(x).enumerate() {
+                *y = (i + 1) as f64 * x;
+            }
+        }
+
+        fn relative_residual(&mut self, y: &[f64], theta: f64) -> f64 {
+            let norm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let residual = (y.iter().enumerate())
+                .map(|(i, v)| ((i + 1) as f64 * v - theta * v).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            residual / (theta.abs() * norm)
+        }
+    }
+
+    #[test]
+    fn progress_is_reported_between_restarts_and_a_stop_is_heard_there() {
+        // Clustered at the top (gaps of 1 in 300), so that the first restart comes after the
+        // first check point (step 10), while a step takes a fifth of the progress interval.
+        let delay = PROGRESS_INTERVAL / 5;
+        let mut options = LanczosOptions::new(1, Which::LargestAlgebraic);
+        options.max_dim = 40;
+        let mut calls: Vec<(Progress, Instant)> = Vec::new();
+        let start = Instant::now();
+        let mut stop_at_first_call = |p: &Progress| {
+            calls.push((*p, Instant::now()));
+            ControlFlow::Break(())
+        };
+        let mut op = SlowDiagonal { n: 300, delay };
+        let outcome = run(
+            &mut op,
+            &options,
+            1,
+            Basis::new(300),
+            Some(&mut stop_at_first_call),
+        )
+        .map_err(EigError::<f64>::from)
+        .unwrap();
+        assert!(!outcome.converged);
+        let [(first, at)] = calls[..] else {
+            panic!("one call, which stopped the run: {calls:?}")
+        };
+        assert_eq!(first.restarts, 0, "{first:?}");
+        assert!(first.operator_applications < 10, "{first:?}");
+        assert!(at - start < 8 * delay, "stopped after {:?}", at - start);
+    }
 
     /// A projected matrix of dimension `thetas.len() + tail.len()` as a thick restart leaves
     /// it: the kept Ritz values on the diagonal, coupled by `couplings` to row `kept`, then

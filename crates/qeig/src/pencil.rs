@@ -245,7 +245,8 @@ impl<'a, T: Scalar<Real = f64>> Pencil<'a, T> {
         self.solve_with_progress(backend, options, None)
     }
 
-    /// [`Pencil::solve`] with a callback invoked after every restart.
+    /// [`Pencil::solve`] with a progress callback ([`ProgressCallback`]: after every restart, and
+    /// between restarts at least every 0.1 s).
     pub fn solve_with_progress<B: Backend<T>>(
         &self,
         backend: &B,

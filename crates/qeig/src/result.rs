@@ -85,7 +85,7 @@ impl std::ops::AddAssign<&Statistics> for Statistics {
     }
 }
 
-/// What a progress callback sees after every restart.
+/// What a progress callback sees: the state after a restart, or between restarts.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Progress {
     /// Current round (1-based).
@@ -100,7 +100,8 @@ pub struct Progress {
     pub wanted: usize,
 }
 
-/// The callback of the `*_with_progress` solvers, called after every restart. Returning
+/// The callback of the `*_with_progress` solvers, called after every restart and, between
+/// restarts, after the first step at least 0.1 s after its last call. Returning
 /// [`ControlFlow::Break`] stops the solve at once: it then reports
 /// [`crate::EigError::NotConverged`] with the pairs converged so far (how a caller cancels a
 /// long run, for example on Ctrl-C).

@@ -205,12 +205,12 @@ fn progress_is_reported() {
             Some(&mut callback),
         )
         .unwrap();
-    assert_eq!(calls.len(), eig.statistics.restarts);
-    assert!(
-        calls
-            .windows(2)
-            .all(|w| w[0].operator_applications <= w[1].operator_applications)
-    );
+    // Every restart is reported (and, on a slow machine, steps between them too).
+    let restarts: std::collections::BTreeSet<usize> = calls.iter().map(|p| p.restarts).collect();
+    assert!((1..=eig.statistics.restarts).all(|r| restarts.contains(&r)));
+    assert!(calls.windows(2).all(|w| {
+        w[0].operator_applications <= w[1].operator_applications && w[0].restarts <= w[1].restarts
+    }));
     assert_eq!(calls.last().unwrap().wanted, 5);
 }
 

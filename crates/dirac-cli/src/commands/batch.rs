@@ -22,9 +22,8 @@
 //!
 //! Every file is published whole: written under a unique temporary name in `--out`, synced and
 //! renamed ([`mod@publish`]), so concurrent runs on one directory never see half a file. Ctrl-C
-//! stops the solves in progress within one restart of the eigensolver, writes the summary
-//! (the unfinished meshes `interrupted`) and exits 130; the next run resumes. A second Ctrl-C
-//! exits at once.
+//! stops the solves in progress within about 0.1 s, writes the summary (the unfinished meshes
+//! `interrupted`) and exits 130; the next run resumes. A second Ctrl-C exits at once.
 //!
 //! Meshes run in parallel on `--jobs` threads (default: the available parallelism); each solve
 //! itself is sequential (every faer call in `qeig` runs with `Par::Seq`), so `--jobs N` keeps N
@@ -133,9 +132,10 @@ pub struct BatchArgs {
     pub save: Vec<Saved>,
 
     /// Stop a mesh's eigensolver once this many seconds have passed since the mesh was read
-    /// (checked after every restart of the eigensolver, so a solve overruns by at most one
-    /// restart): the mesh is `not-converged`, its JSON holds the pairs that converged, and a
-    /// rerun tries it again. Keeps a few pathological meshes from holding up a data set.
+    /// (checked whenever the eigensolver reports progress: after every restart, and between
+    /// restarts at least every 0.1 s): the mesh is `not-converged`, its JSON holds the pairs
+    /// that converged, and a rerun tries it again. Keeps a few pathological meshes from
+    /// holding up a data set.
     #[arg(long, value_name = "SECONDS", value_parser = positive_real)]
     pub time_limit: Option<f64>,
 

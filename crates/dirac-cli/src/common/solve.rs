@@ -73,7 +73,8 @@ pub fn solve(
     solve_until(mesh, reference, name, options, quiet, || false)
 }
 
-/// [`solve`], stopped within one restart of the eigensolver once `stop()` is true (then it
+/// [`solve`], stopped within about 0.1 s once `stop()` is true (it is asked whenever the
+/// eigensolver reports progress) (then it
 /// returns what converged by then, with `converged: false`).
 pub fn solve_until(
     mesh: &TriMesh,

@@ -239,17 +239,17 @@ def spectrum(
         flat_tolerance: faces whose Gauss map is flat within this (relative to the edges) are
             flat: their row of ``D_N`` is exactly zero.
         max_restarts: restarts of the eigensolver before it reports non-convergence.
-        progress: called after every restart of the eigensolver with a dict (``round``,
-            ``restarts``, ``operator_applications``, ``locked``, ``wanted``: pairs converged and
-            wanted in the current round), for a progress bar; an exception it raises stops the
-            solve and propagates. Ctrl-C stops a solve within one restart either way
-            (``KeyboardInterrupt``).
+        progress: called after every restart of the eigensolver, and between restarts at
+            least every 0.1 s, with a dict (``round``, ``restarts``, ``operator_applications``,
+            ``locked``, ``wanted``: pairs converged and wanted in the current round), for a
+            progress bar; an exception it raises stops the solve and propagates. Ctrl-C stops
+            a solve within about 0.1 s either way (``KeyboardInterrupt``).
         relative_to: ``(n, 3)`` positions of a second surface with the same faces ``F``: the
             operators built on ``D_N`` (``"relative-dirac"``, ``"squared"``, the family) use the
             relative Dirac operator ``D_{f1,f2}`` of ``V`` and ``relative_to`` instead (paper
             Fig. 3); ``relative_to = V`` gives the spectrum of ``"extrinsic-dirac"``.
             ``OptionsError`` for the other operators.
-        time_limit: seconds after which the eigensolver stops at its next restart (assembly and
+        time_limit: seconds after which the eigensolver stops, within about 0.1 s (assembly and
             factorisation are not interrupted): ``NotConvergedError`` with the pairs that
             converged in ``partial`` and ``stopped_at_time_limit`` true. For data sets where
             a few pathological meshes should not hold up the rest.

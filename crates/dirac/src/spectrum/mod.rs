@@ -1219,7 +1219,8 @@ pub fn spectrum(mesh: &TriMesh, options: &SpectrumOptions) -> Result<Spectrum, S
     spectrum_with_progress(mesh, options, None)
 }
 
-/// [`spectrum`] with a callback invoked after every restart of the eigensolver. When it returns
+/// [`spectrum`] with a callback invoked whenever the eigensolver reports (after every restart,
+/// and between restarts at least every 0.1 s: [`qeig::ProgressCallback`]). When it returns
 /// [`std::ops::ControlFlow::Break`], the solve stops and the result is
 /// [`SpectrumError::NotConverged`] with the pairs converged so far.
 pub fn spectrum_with_progress(
