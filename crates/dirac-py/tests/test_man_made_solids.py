@@ -200,3 +200,19 @@ def test_a_rotated_box_stored_in_single_precision_matches_scipy_on_the_exact_box
         # what the rounding of the positions makes.
         assert 1e3 * np.finfo(float).eps < got.backward_error_floor < 1e-4
         assert np.all(got.backward_errors <= got.backward_error_floor)
+
+
+def test_a_small_mesh_the_family_cannot_resolve_is_told_to_normalise():
+    """A ribbon of area 2e-8 (a fraction of a millimetre, in metres): the family at tau = 0.5
+    weighs D_N there as tau = 1 - 2e-8 does at unit area, and its smallest pairs are beyond
+    double precision. The message says to normalise, in Python's spelling; normalised, the
+    spectrum is the ribbon's at its own scale."""
+    V, F = ribbon(12)
+    with pytest.raises(ds.NotConvergedError) as error:
+        ds.spectrum(V * 1e-4, F, k=8, operator="family", tau=0.5, eigenvectors=False)
+    message = str(error.value)
+    assert 'normalize="unit-area"' in message and "smaller tau" in message, message
+    assert "--" not in message and 'operator="family", tau=T (0 < T < 1)' not in message, message
+    ours = ds.spectrum(V * 1e-4, F, k=8, operator="family", tau=0.5, normalize="unit-area")
+    theirs = ds.spectrum(V, F, k=8, operator="family", tau=0.5, normalize="unit-area")
+    np.testing.assert_allclose(ours.eigenvalues, theirs.eigenvalues, rtol=1e-8, atol=1e-12)

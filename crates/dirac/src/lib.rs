@@ -55,7 +55,7 @@ pub use io::default_mesh;
 pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
-    SecondSurface, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
+    Remedy, SecondSurface, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
     eigenproblem, relative_eigenproblem, relative_spectrum, spectrum,
 };
 pub use topology::{

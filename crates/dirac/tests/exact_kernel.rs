@@ -10,8 +10,8 @@ use dirac::geometry::barycentric_masses;
 use dirac::operators::{DiracPencil, extrinsic_dirac, normal_dirac};
 use dirac::phase::mass_inner;
 use dirac::spectrum::{
-    Normalization, Operator, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
-    relative_spectrum, spectrum,
+    Normalization, Operator, Remedy, SolverBackend, Spectrum, SpectrumError, SpectrumOptions,
+    Unaccepted, relative_spectrum, spectrum,
 };
 use dirac::well::{PotentialWell, dirac_with_well};
 use proptest::prelude::*;
@@ -1300,6 +1300,7 @@ fn the_accepting_tolerance_is_the_largest_residual_rounded_up() {
         inaccurate: 2,
         smallest_inaccurate: Some(1.0),
         largest_residual,
+        remedy: Remedy::Family,
     };
     let close = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 1e-12 * b);
     assert!(close(unaccepted(1.82e-8).accepting_tolerance(), 2e-10));
@@ -1320,6 +1321,61 @@ fn the_accepting_tolerance_is_the_largest_residual_rounded_up() {
     );
     assert_eq!(Unaccepted::default().accepting_tolerance(), None);
     assert_eq!(Unaccepted::default().explanation(&[1.0]), None);
+}
+
+/// The advice of a message about an operator singular to rounding depends on the operator:
+/// the family for operators built on `D_N` alone; for the family itself, unit area where the
+/// mesh is small (the family weighs `D_N` by scale, docs/MATH.md), else a smaller `τ`; nothing
+/// for the Laplacian. A ribbon of area 2·10⁻⁸ (0.4 by 0.05 mm, in metres) is not solved by
+/// the family at τ = 0.5, which there weighs `D_N` as τ = 1 − 2·10⁻⁸ does at unit area: the
+/// message said to use the family.
+#[test]
+fn the_advice_for_a_nearly_singular_operator_fits_the_operator_and_the_scale() {
+    let ribbon = wavy_ribbon(12);
+    let area: f64 = barycentric_masses(&ribbon).iter().sum();
+    let tiny = ribbon.map_positions(|p| p.map(|c| 1e-4 * c)).unwrap();
+    let family = SpectrumOptions::new(Operator::Family { tau: 0.5 }, 8);
+    let message = match spectrum(&tiny, &family) {
+        Err(error @ SpectrumError::NotConverged { .. }) => error.to_string(),
+        other => panic!("expected NotConverged, got {other:?}"),
+    };
+    assert!(message.contains("far beyond any tolerance"), "{message}");
+    assert!(message.contains("--normalize unit-area"), "{message}");
+    assert!(
+        !message.contains("use --operator family:T (0 < T < 1)"),
+        "{message}"
+    );
+    // What it advises works: the same spectrum as the ribbon at its own scale, normalised.
+    let mut normalized = family;
+    normalized.normalization = Normalization::UnitArea;
+    let advised = spectrum(&tiny, &normalized).unwrap();
+    let reference = spectrum(&ribbon, &normalized).unwrap();
+    for (a, b) in advised.eigenvalues.iter().zip(&reference.eigenvalues) {
+        assert!((a - b).abs() <= 1e-8 * b.abs().max(1.0), "{a} vs {b}");
+    }
+
+    let tau = 0.5;
+    match Remedy::of(Operator::Family { tau }, 1e-8 * area) {
+        Remedy::LessDirac { effective_tau, .. } => {
+            assert!((effective_tau - tau / (tau + (1.0 - tau) * 1e-8 * area)).abs() < 1e-15);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(Remedy::of(Operator::RelativeDirac, area), Remedy::Family);
+    assert_eq!(Remedy::of(Operator::Squared, area), Remedy::Family);
+    assert_eq!(Remedy::of(Operator::Laplace, area), Remedy::None);
+    let explained = |remedy| {
+        let unaccepted = Unaccepted {
+            at_infinity: 0,
+            inaccurate: 1,
+            smallest_inaccurate: Some(1.0),
+            largest_residual: 1e-2,
+            remedy,
+        };
+        unaccepted.explanation(&[0.5]).unwrap()
+    };
+    assert!(explained(Remedy::of(Operator::Family { tau }, 1.0)).contains("a smaller T"));
+    assert!(!explained(Remedy::None).contains("family"));
 }
 
 /// A prism of 256 sides, each cut in two (three collinear corners per side), three rings,

@@ -4,7 +4,7 @@
 use dirac::generators::{grid, icosphere};
 use dirac::operators::relative_dirac;
 use dirac::spectrum::{
-    Normalization, Operator, Parameter, SecondSurface, SpectrumError, SpectrumOptions,
+    Normalization, Operator, Parameter, Remedy, SecondSurface, SpectrumError, SpectrumOptions,
     relative_spectrum, spectrum,
 };
 use dirac::well::{PotentialWell, WellError};
@@ -178,6 +178,7 @@ fn a_kernel_the_exact_search_misses_is_not_blamed_on_near_flatness() {
         sliver: None,
         flatness: Some(0.0),
         flat_tolerance: 1e-5,
+        remedy: Remedy::Family,
     };
     let message = error.to_string();
     assert!(message.contains("near vertex 15"), "{message}");

@@ -870,7 +870,10 @@ pub enum SpectrumError {
     /// vanishes somewhere without vanishing exactly (almost but not exactly flat faces), so its
     /// smallest eigenvalues there are below what double precision resolves against the rest
     /// of the mesh.
-    #[error("{}", nearly_singular_message(*.vertex, *.flatness, *.flat_tolerance, *.sliver))]
+    #[error(
+        "{}",
+        nearly_singular_message(*.vertex, *.flatness, *.flat_tolerance, *.sliver, *.remedy)
+    )]
     NearlySingular {
         /// Where the factorisation failed (native backend), original numbering.
         vertex: Option<usize>,
@@ -884,6 +887,8 @@ pub enum SpectrumError {
         flatness: Option<f64>,
         /// The flat tolerance in force.
         flat_tolerance: f64,
+        /// What the operator's options can change.
+        remedy: Remedy,
     },
     /// The literal family is solved from the bottom of its spectrum (its matrix `(1−τ)L + τG`
     /// is indefinite, and the eigensolver factorises positive definite matrices only), and on
@@ -952,6 +957,77 @@ pub struct Unaccepted {
     pub smallest_inaccurate: Option<f64>,
     /// The largest relative residual of the inaccurate pairs (`0` without any).
     pub largest_residual: f64,
+    /// What the operator's options can change, when the inaccurate pairs show that it is
+    /// singular to rounding.
+    pub remedy: Remedy,
+}
+
+/// What a user can change when the operator nearly vanishes on some functions without
+/// vanishing exactly, so that its smallest eigenvalues are below what double precision
+/// resolves: the advice that ends [`SpectrumError::NearlySingular`]'s message and
+/// [`Unaccepted::explanation`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Remedy {
+    /// Nothing the options change (the Laplace-type operators and the literal family).
+    #[default]
+    None,
+    /// The blended family `L(τ)` instead of an operator built on `D_N` or `D_f` alone.
+    Family,
+    /// The family with less weight on `D_N`: a smaller `τ`, or, for a mesh whose area is far
+    /// below 1 and not normalised, unit area. The family mixes `τA ∝ 1/s²` with
+    /// `(1−τ)L ∝ 1` (docs/MATH.md, "Scaling and rigid motions"), so at area `a` its `τ` weighs
+    /// `D_N` as `effective_tau = τ / (τ + (1−τ) a)` does at unit area.
+    LessDirac {
+        /// The mesh's area as solved.
+        area: f64,
+        /// The `τ` of the unit-area mesh that the pencil equals.
+        effective_tau: f64,
+    },
+}
+
+impl Remedy {
+    /// The remedy for `operator` on a mesh of total area `area` (as solved, after any
+    /// normalisation).
+    pub fn of(operator: Operator, area: f64) -> Self {
+        match operator {
+            Operator::RelativeDirac | Operator::ExtrinsicDirac | Operator::Squared => {
+                Remedy::Family
+            }
+            Operator::Family { tau } => Remedy::LessDirac {
+                area,
+                effective_tau: tau / (tau + (1.0 - tau) * area),
+            },
+            Operator::Laplace
+            | Operator::FamilyLiteral { .. }
+            | Operator::ModifiedDirichlet
+            | Operator::AnisotropicLaplace { .. } => Remedy::None,
+        }
+    }
+
+    /// The advice, as a clause (`None` for [`Remedy::None`]).
+    fn advice(self) -> Option<String> {
+        match self {
+            Remedy::None => None,
+            Remedy::Family => Some("use --operator family:T (0 < T < 1)".to_string()),
+            // An area within a factor 10 of 1 changes the weight little.
+            Remedy::LessDirac {
+                area,
+                effective_tau,
+            } if area < 0.1 => Some(format!(
+                "use --normalize unit-area: the family's balance of D_N and the Laplacian \
+                 depends on the scale, and at this mesh's area {area:.1e} its T weighs D_N as \
+                 T = {} does at unit area (or use a smaller T)",
+                if effective_tau > 0.999 {
+                    format!("1 − {:.1e}", 1.0 - effective_tau)
+                } else {
+                    format!("{effective_tau:.3}")
+                }
+            )),
+            Remedy::LessDirac { .. } => {
+                Some("use a smaller T in --operator family:T (T = 0 is the Laplacian)".to_string())
+            }
+        }
+    }
 }
 
 impl Unaccepted {
@@ -959,9 +1035,13 @@ impl Unaccepted {
     /// `100 ×` this or more is not an accurate pair short of a tight tolerance.
     pub const LARGEST_SUGGESTED_TOLERANCE: f64 = 1e-6;
 
-    /// The pairs not converged among `measured` (`converged` flags those that are).
-    fn of(eigenvalues: &[f64], measured: &[Residual], converged: &[bool]) -> Self {
-        let mut unaccepted = Self::default();
+    /// The pairs not converged among `measured` (`converged` flags those that are), and what
+    /// to do if they show that the operator is singular to rounding.
+    fn of(eigenvalues: &[f64], measured: &[Residual], converged: &[bool], remedy: Remedy) -> Self {
+        let mut unaccepted = Self {
+            remedy,
+            ..Self::default()
+        };
         for ((lambda, r), _) in
             (eigenvalues.iter().zip(measured).zip(converged)).filter(|(_, converged)| !**converged)
         {
@@ -1006,13 +1086,14 @@ impl Unaccepted {
             {
                 // Pairs the Lanczos accepted that fail the operator's own test by this much
                 // come from applying an operator that is singular to rounding.
-                String::from(
-                    "far beyond any tolerance: the operator nearly vanishes on some functions \
-                     without vanishing exactly (as D_N does on developable parts such as thin \
-                     cylinders and cones), so its smallest eigenvalues are below what double \
-                     precision resolves; for the Dirac operators use --operator family:T \
-                     (0 < T < 1)",
-                )
+                let fact = "far beyond any tolerance: the operator nearly vanishes on some \
+                            functions without vanishing exactly (as D_N does on developable \
+                            parts such as thin cylinders and cones), so its smallest eigenvalues \
+                            are below what double precision resolves";
+                match self.remedy.advice() {
+                    Some(advice) => format!("{fact}; {advice}"),
+                    None => fact.to_string(),
+                }
             } else {
                 String::from("short of the tolerance")
             };
@@ -1060,6 +1141,7 @@ fn nearly_singular_message(
     flatness: Option<f64>,
     tolerance: f64,
     sliver: Option<usize>,
+    remedy: Remedy,
 ) -> String {
     let place = vertex.map_or(String::new(), |v| format!(" near vertex {v}"));
     if let Some(face) = sliver {
@@ -1070,7 +1152,10 @@ fn nearly_singular_message(
              faces with --repair"
         );
     }
-    const FAMILY: &str = "use --operator family:T (0 < T < 1)";
+    let or_remedy = remedy
+        .advice()
+        .map_or(String::new(), |a| format!(", or {a}"));
+    let then_remedy = remedy.advice().map_or(String::new(), |a| format!("; {a}"));
     let (how, remedy) = match flatness {
         Some(s) if s > NEARLY_FLAT => (
             format!(
@@ -1080,7 +1165,7 @@ fn nearly_singular_message(
             format!(
                 "a flat tolerance would not help: D_N nearly vanishes on functions constant \
                  along straight lines of the surface (developable parts such as thin cylinders \
-                 and cones); {FAMILY}"
+                 and cones){then_remedy}"
             ),
         ),
         Some(s) if s > tolerance => (
@@ -1089,7 +1174,7 @@ fn nearly_singular_message(
                  |f_a − f_b|, above the flat tolerance {tolerance:.0e})"
             ),
             format!(
-                "treat such faces as flat with --flat-tolerance {:.0e}, or {FAMILY}",
+                "treat such faces as flat with --flat-tolerance {:.0e}{or_remedy}",
                 10f64.powf((10.0 * s).log10().ceil())
             ),
         ),
@@ -1098,12 +1183,12 @@ fn nearly_singular_message(
                 "the operator is numerically singular{place} (the nearly flat faces around it \
                  are flat already, within the flat tolerance {tolerance:.0e}): it vanishes \
                  there, or nearly, on functions that the exact kernel does not remove (neither \
-                 flat vertices nor modes of the pieces its rows join); {FAMILY}"
+                 flat vertices nor modes of the pieces its rows join){then_remedy}"
             );
         }
         None => (
             String::new(),
-            format!("treat such faces as flat with --flat-tolerance a larger value, or {FAMILY}"),
+            format!("treat such faces as flat with --flat-tolerance a larger value{or_remedy}"),
         ),
     };
     format!(
@@ -1413,7 +1498,8 @@ fn solve_pencil<T: Scalar<Real = f64>>(
         kernel: &kernel,
         masses: &masses,
     };
-    let singular = |e| singular_error(e, &spec, mesh, options.flat_tolerance);
+    let area: f64 = masses.iter().sum();
+    let singular = |e| singular_error(e, &spec, mesh, options, area);
     let Solved { pairs, mut reduced } = problem
         .solve(wanted, options, &mut progress)
         .map_err(singular)?;
@@ -1558,7 +1644,8 @@ fn singular_error<T>(
     error: SolveError,
     spec: &PencilSpec<T>,
     mesh: &TriMesh,
-    flat_tolerance: f64,
+    options: &SpectrumOptions,
+    area: f64,
 ) -> SpectrumError {
     match error {
         SolveError::Other(e) => e,
@@ -1568,7 +1655,8 @@ fn singular_error<T>(
             flatness: vertex
                 .zip(spec.normals.as_ref())
                 .map(|(v, normals)| flatness_around(mesh, normals, v)),
-            flat_tolerance,
+            flat_tolerance: options.flat_tolerance,
+            remedy: Remedy::of(options.operator, area),
         },
     }
 }
@@ -1639,7 +1727,8 @@ fn finish<T: Scalar<Real = f64>>(
         .iter()
         .map(|r| r.is_converged(options.tolerance, floor))
         .collect();
-    let unaccepted = Unaccepted::of(&eigenvalues, &measured, &converged);
+    let remedy = Remedy::of(options.operator, masses.iter().sum());
+    let unaccepted = Unaccepted::of(&eigenvalues, &measured, &converged, remedy);
     let residuals = measured.iter().map(|r| r.relative).collect();
     let backward_errors = measured.iter().map(|r| r.backward_error).collect();
     let all = pairs.complete && eigenvalues.len() == options.k && converged.iter().all(|&c| c);
