@@ -169,6 +169,39 @@ fn family_reports_tau_and_human_output_has_a_table() {
     }
 }
 
+/// The family weighs D_N by scale: on a mesh in other units than the unit-area one (here an
+/// icosphere of area 1.2e-3) the command warns, with the weight T amounts to at unit area, and
+/// with --normalize unit-area it does not.
+#[test]
+fn the_family_warns_of_a_mesh_far_from_unit_area() {
+    let small = icosphere(1).map_positions(|p| p.map(|c| 1e-2 * c)).unwrap();
+    let path = write_off(&small, temporary("small_icosphere1_family.off"));
+    let args = [
+        "spectrum",
+        text(&path),
+        "--operator",
+        "family:0.5",
+        "-k",
+        "3",
+    ];
+    let output = dirac(&args);
+    assert_success(&output);
+    let message = stderr(&output);
+    assert!(message.contains("warning:"), "{message}");
+    assert!(
+        message.contains("the weight 0.5 of D_N acts as 9.99e-1"),
+        "{message}"
+    );
+    assert!(message.contains("--normalize unit-area"), "{message}");
+    let normalized = dirac(&[&args[..], &["--normalize", "unit-area"]].concat());
+    assert_success(&normalized);
+    assert!(
+        !stderr(&normalized).contains("warning"),
+        "{}",
+        stderr(&normalized)
+    );
+}
+
 #[test]
 fn anisotropic_laplace_reports_its_anisotropy_and_scales_laplace_on_a_sphere() {
     let path = write_off(&icosphere(2), temporary("icosphere2_anisotropic.off"));

@@ -18,7 +18,7 @@ use dirac::geometry::{barycentric_masses, cotan_laplacian};
 use dirac::io::{PlyWriteOptions, read_mesh as read_mesh_file, read_raw, write_obj, write_ply};
 use dirac::repair::{DEFAULT_MERGE_DISTANCE, RepairOptions, sliver_warning, slivers};
 use dirac::spectrum::{
-    DEFAULT_FLAT_TOLERANCE, relative_spectrum_with_progress, spectrum_with_progress,
+    DEFAULT_FLAT_TOLERANCE, relative_spectrum_with_progress, scale_warning, spectrum_with_progress,
 };
 use dirac::well::PotentialWell;
 use dirac::{
@@ -373,6 +373,7 @@ fn spectrum<'py>(
             let slivers = slivers(&mesh);
             let warning = (slivers.first()).map(|&first| sliver_warning(slivers.len(), first));
             dict.set_item("sliver_warning", warning)?;
+            dict.set_item("scale_warning", scale_warning(&mesh, &options))?;
             Ok(dict)
         }
         Err(SpectrumError::NotConverged {

@@ -11,6 +11,7 @@ import signal
 import subprocess
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -433,3 +434,17 @@ def test_geodesic_distance_on_the_sphere_and_the_potential_well(sphere):
     assert U[north] < 1e-30 and U.max() > 0.99e10
     with pytest.raises(ds.OptionsError, match="source vertex 9999 does not exist"):
         ds.geodesic_distance(V, F, [0, 9999])
+
+
+def test_the_family_on_a_mesh_far_from_unit_area_warns():
+    """The family weighs D_N by scale: unnormalised and far from unit area it warns, with the
+    weight tau amounts to at unit area; normalised, or with another operator, it does not."""
+    V, F = torus(12, 8)
+    small = V * 1e-2
+    with pytest.warns(ds.ScaleWarning, match='normalize="unit-area"'):
+        ds.spectrum(small, F, k=4, operator="family", tau=0.5, eigenvectors=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ds.spectrum(small, F, k=4, operator="family", tau=0.5, normalize="unit-area")
+        ds.spectrum(small, F, k=4, operator="laplace")
+        ds.spectrum(V, F, k=4, operator="family", tau=0.5)

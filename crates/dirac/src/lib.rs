@@ -56,7 +56,7 @@ pub use mesh::{ConnectivityMismatch, Edge, MeshError, TriMesh};
 pub use spectrum::{
     Eigenproblem, Normalization, Operator, OperatorNameError, Parameter, ParseOperatorError,
     Remedy, SecondSurface, SolverBackend, Spectrum, SpectrumError, SpectrumOptions, Unaccepted,
-    eigenproblem, relative_eigenproblem, relative_spectrum, spectrum,
+    eigenproblem, relative_eigenproblem, relative_spectrum, scale_warning, spectrum,
 };
 pub use topology::{
     Component, ComponentError, ComponentSelection, ComponentSelectionParseError, Topology,

@@ -5,7 +5,7 @@ use dirac::generators::{grid, icosphere};
 use dirac::operators::relative_dirac;
 use dirac::spectrum::{
     Normalization, Operator, Parameter, Remedy, SecondSurface, SpectrumError, SpectrumOptions,
-    relative_spectrum, spectrum,
+    relative_spectrum, scale_warning, spectrum,
 };
 use dirac::well::{PotentialWell, WellError};
 use dirac::{MeshError, TriMesh};
@@ -285,4 +285,27 @@ fn a_well_centre_out_of_range_is_named_as_such() {
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// The family weighs `D_N` by scale, so an unnormalised mesh far from unit area is warned of,
+/// with the weight its `τ` amounts to at unit area (`τ/(τ + (1−τ)a)` at area `a`); normalised
+/// meshes, areas near 1 and other operators are not.
+#[test]
+fn the_family_on_a_mesh_far_from_unit_area_is_warned_of() {
+    let sphere = icosphere(2);
+    let area: f64 = (0..sphere.face_count()).map(|t| sphere.face_area(t)).sum();
+    let family = SpectrumOptions::new(Operator::Family { tau: 0.5 }, 4);
+    let scaled = |s: f64| sphere.map_positions(|p| p.map(|c| s * c)).unwrap();
+    for s in [1e-2, 1e2] {
+        let warning = scale_warning(&scaled(s), &family).expect("warned");
+        let amounts_to = 0.5 / (0.5 + 0.5 * s * s * area);
+        assert!(warning.contains(&format!("{amounts_to:.2e}")), "{warning}");
+        assert!(warning.contains("--normalize unit-area"), "{warning}");
+    }
+    assert_eq!(scale_warning(&scaled(1.0), &family), None);
+    let mut normalized = family;
+    normalized.normalization = Normalization::UnitArea;
+    assert_eq!(scale_warning(&scaled(1e-2), &normalized), None);
+    let laplace = SpectrumOptions::new(Operator::Laplace, 4);
+    assert_eq!(scale_warning(&scaled(1e-2), &laplace), None);
 }

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 use dirac::TriMesh;
 use dirac::spectrum::{
     Spectrum, SpectrumError, SpectrumOptions, Unaccepted, relative_spectrum_with_progress,
-    spectrum_with_progress,
+    scale_warning, spectrum_with_progress,
 };
 use qeig::Progress;
 
@@ -74,8 +74,9 @@ pub fn solve(
 }
 
 /// [`solve`], stopped within about 0.1 s once `stop()` is true (it is asked whenever the
-/// eigensolver reports progress) (then it
-/// returns what converged by then, with `converged: false`).
+/// eigensolver reports progress); it then returns what converged by then, with
+/// `converged: false`. Unless `quiet`, first warns on stderr of options whose meaning depends
+/// on the mesh's scale ([`scale_warning`]).
 pub fn solve_until(
     mesh: &TriMesh,
     reference: Option<&TriMesh>,
@@ -84,6 +85,9 @@ pub fn solve_until(
     quiet: bool,
     stop: impl Fn() -> bool,
 ) -> Result<Solved, CliError> {
+    if let Some(warning) = scale_warning(mesh, options).filter(|_| !quiet) {
+        eprintln!("warning: {name}: {warning}");
+    }
     let start = Instant::now();
     let display = SolveProgress::start(quiet);
     let mut show = |p: &Progress| {

@@ -35,6 +35,7 @@ from .errors import (
     NotConvergedError,
     OptionsError,
     SingularError,
+    ScaleWarning,
     SliverWarning,
     SolverError,
 )
@@ -58,6 +59,7 @@ __all__ = [
     "PotentialWell",
     "Repaired",
     "SingularError",
+    "ScaleWarning",
     "SliverWarning",
     "SolverError",
     "Spectrum",

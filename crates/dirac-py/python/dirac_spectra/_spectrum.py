@@ -11,7 +11,7 @@ import numpy.typing as npt
 import scipy.sparse
 
 from . import _arrays, _native
-from .errors import OptionsError, SliverWarning, _python_spelling, translated
+from .errors import OptionsError, ScaleWarning, SliverWarning, _python_spelling, translated
 
 #: The operator names ``spectrum`` and ``operator_matrices`` accept.
 OPERATORS: tuple[str, ...] = tuple(_native.OPERATORS)
@@ -287,6 +287,8 @@ def spectrum(
     raw = solve()
     if raw["sliver_warning"] is not None:
         warnings.warn(_python_spelling(raw["sliver_warning"]), SliverWarning, stacklevel=2)
+    if raw["scale_warning"] is not None:
+        warnings.warn(_python_spelling(raw["scale_warning"]), ScaleWarning, stacklevel=2)
     return _spectrum(raw, request)
 
 

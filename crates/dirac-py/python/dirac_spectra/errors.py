@@ -47,7 +47,11 @@ class                  builtin base                raised when
 
 ``spectrum`` warns with ``SliverWarning`` (a ``UserWarning``) when the mesh has sliver faces:
 their height is at most 10⁻⁹ of the mesh's size, so their cotangent weights dominate every
-operator; the computation goes on, and ``repair`` removes them.
+operator; the computation goes on, and ``repair`` removes them. It warns with
+``ScaleWarning`` (a ``UserWarning``) when ``operator="family"`` runs on a mesh that is not
+normalised and whose area is outside [0.01, 100]: the family weighs ``D_N`` and the
+Laplacian by scale, so its ``tau`` there means another ``tau`` of the mesh at unit area
+(the message gives it); ``normalize="unit-area"`` makes ``tau`` mean the same on every mesh.
 
 Files that cannot be opened or written raise the builtin ``OSError`` (``FileNotFoundError``
 and so on). Bad array arguments raise ``TypeError`` (wrong dtype) or ``ValueError`` (wrong
@@ -72,6 +76,7 @@ __all__ = [
     "SolverError",
     "NotConvergedError",
     "DescriptorError",
+    "ScaleWarning",
     "SliverWarning",
 ]
 
@@ -137,6 +142,12 @@ class SliverWarning(UserWarning):
     """The mesh has sliver faces (height at most 10⁻⁹ of its size, as CAD exporters write fans
     over collinear corners): a valid mesh, but their cotangent weights dominate every operator
     and can spoil its spectrum. ``dirac_spectra.repair(V, F)`` removes them."""
+
+
+class ScaleWarning(UserWarning):
+    """The family ran on a mesh that is not normalised and whose area is far from 1: it weighs
+    ``D_N`` and the Laplacian by scale, so its ``tau`` means another ``tau`` of the mesh at
+    unit area (the message gives it). ``normalize="unit-area"`` makes ``tau`` scale-free."""
 
 
 _CLASSES: dict[str, type[Exception]] = {

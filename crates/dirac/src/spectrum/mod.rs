@@ -995,7 +995,7 @@ impl Remedy {
             }
             Operator::Family { tau } => Remedy::LessDirac {
                 area,
-                effective_tau: tau / (tau + (1.0 - tau) * area),
+                effective_tau: effective_tau(tau, area),
             },
             Operator::Laplace
             | Operator::FamilyLiteral { .. }
@@ -1028,6 +1028,38 @@ impl Remedy {
             }
         }
     }
+}
+
+/// The `τ` at which the family on the unit-area version of a mesh equals the family at weight
+/// `tau` on the mesh of area `area` (docs/MATH.md, "Scaling and rigid motions": `τA ∝ 1/s²`
+/// against `(1−τ)L ∝ 1`; eigenvalues are divided by the area besides).
+fn effective_tau(tau: f64, area: f64) -> f64 {
+    tau / (tau + (1.0 - tau) * area)
+}
+
+/// Areas outside `[1/RANGE, RANGE]` (lengths beyond a factor 10 of unit area's) are far enough
+/// from 1 for [`scale_warning`].
+const UNIT_AREA_RANGE: f64 = 100.0;
+
+/// A warning for options whose meaning depends on the mesh's scale, or `None`: the blended
+/// family with `0 < τ < 1` on a mesh that is not normalised and whose area is outside
+/// `[0.01, 100]` weighs `D_N` as another `τ` does at unit area, so the same `family:τ` means
+/// different operators for a mesh in millimetres and in metres ([`Remedy::LessDirac`]). The
+/// command line prints it and the Python package warns with it.
+pub fn scale_warning(mesh: &TriMesh, options: &SpectrumOptions) -> Option<String> {
+    let Operator::Family { tau } = options.operator else {
+        return None;
+    };
+    let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
+    let far = !(1.0 / UNIT_AREA_RANGE..=UNIT_AREA_RANGE).contains(&area);
+    (far && options.normalization == Normalization::None && tau > 0.0 && tau < 1.0).then(|| {
+        format!(
+            "the family weighs D_N and the Laplacian by the mesh's scale: at its area {area:.1e} \
+             (not normalised) the weight {tau} of D_N acts as {:.2e} does on the mesh scaled to \
+             unit area; --normalize unit-area makes the weight mean the same on every mesh",
+            effective_tau(tau, area)
+        )
+    })
 }
 
 impl Unaccepted {
