@@ -1176,7 +1176,8 @@ mod tests {
         };
         assert_eq!(first.restarts, 0, "{first:?}");
         assert!(first.operator_applications < 10, "{first:?}");
-        assert!(at - start < 8 * delay, "stopped after {:?}", at - start);
+        // Half the 40 steps to the first restart, with room for a busy machine's sleeps.
+        assert!(at - start < 20 * delay, "stopped after {:?}", at - start);
     }
 
     /// A projected matrix of dimension `thetas.len() + tail.len()` as a thick restart leaves

@@ -150,8 +150,14 @@ pub fn run(args: &MatricesArgs) -> Result<(), CliError> {
         source,
     })?;
 
-    let heading =
+    let mut heading =
         format!("dirac matrices: {name}, --operator {operator}, positions scaled by {scale:e}");
+    if let Some(reference) = &args.reference.relative_to {
+        heading += &format!(", relative to {}", reference.display());
+    }
+    if let Some(well) = options.well {
+        heading += &format!(", potential well of radius {}", well.radius);
+    }
     let comments = |what: &str| {
         vec![
             heading.clone(),
@@ -180,7 +186,7 @@ pub fn run(args: &MatricesArgs) -> Result<(), CliError> {
         }?;
     }
     let mass_comments = [
-        heading.clone(),
+        heading,
         "the barycentric vertex masses (one per vertex): the weights of the mass norm; \
          repeat each 4 (real form) or 2 (complex form) times for the rows of P and Q"
             .to_string(),
