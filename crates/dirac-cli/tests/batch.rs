@@ -388,3 +388,29 @@ fn inputs_that_cannot_run_exit_1() {
     assert_eq!(output.status.code(), Some(1));
     assert!(stderr(&output).contains("/nonexistent/list.txt"));
 }
+
+/// The family weighs D_N by each mesh's scale: a batch of meshes that are not normalised is
+/// warned of once (its solves run quiet); normalised, or another operator, it is not.
+#[test]
+fn a_batch_of_the_family_without_normalisation_is_warned_of() {
+    let dir = scratch("batch_family_scale");
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    write_off(&bumpy_sphere(1, 3, 0.05), input.join("a.off"));
+    let run = |extra: &[&str]| {
+        let out = dir.join(format!("out{}", extra.len()));
+        let args = ["batch", text(&input), "-k", "3", "--out", text(&out)];
+        let output = dirac(&[&args[..], extra].concat());
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        stderr(&output)
+    };
+    let warned = run(&["--operator", "family:0.5"]);
+    assert!(
+        warned.contains("warning: the family weighs D_N"),
+        "{warned}"
+    );
+    assert!(warned.contains("--normalize unit-area"), "{warned}");
+    let normalized = run(&["--operator", "family:0.5", "--normalize", "unit-area"]);
+    assert!(!normalized.contains("weighs D_N"), "{normalized}");
+    assert!(!run(&[]).contains("weighs D_N"));
+}

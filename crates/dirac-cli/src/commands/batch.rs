@@ -574,6 +574,14 @@ pub fn run(args: &BatchArgs) -> Result<(), CliError> {
              (dks and wks are those of --operator)",
         ));
     }
+    if let Some(tau) = options.weight_by_scale() {
+        // The solves are quiet (per-mesh lines only); one warning for the whole data set.
+        eprintln!(
+            "warning: the family weighs D_N and the Laplacian by each mesh's scale, and the \
+             meshes are not normalised: family:{tau} amounts to another weight on every mesh \
+             whose area is not 1; --normalize unit-area makes it mean the same on all"
+        );
+    }
     let all = inputs(&args.input)?;
     fs::create_dir_all(&args.out).map_err(|source| CliError::Io {
         path: args.out.clone(),

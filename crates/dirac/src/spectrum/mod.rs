@@ -599,6 +599,18 @@ pub struct SpectrumOptions {
 }
 
 impl SpectrumOptions {
+    /// The family's weight `τ` when what it means depends on the mesh's scale: the blended
+    /// family with `0 < τ < 1` on meshes that are not normalised (it mixes `τA ∝ 1/s²` with
+    /// `(1−τ)L ∝ 1`; docs/MATH.md, "Scaling and rigid motions"). `None` otherwise.
+    pub fn weight_by_scale(&self) -> Option<f64> {
+        match self.operator {
+            Operator::Family { tau } if tau > 0.0 && tau < 1.0 => {
+                (self.normalization == Normalization::None).then_some(tau)
+            }
+            _ => None,
+        }
+    }
+
     /// `k` eigenvalues of `operator`, native backend, no normalisation, no well, tolerance
     /// `1e−10`, at most 1000 restarts, the operator's default kernel listing and flat
     /// tolerance [`DEFAULT_FLAT_TOLERANCE`].
@@ -1047,12 +1059,10 @@ const UNIT_AREA_RANGE: f64 = 100.0;
 /// different operators for a mesh in millimetres and in metres ([`Remedy::LessDirac`]). The
 /// command line prints it and the Python package warns with it.
 pub fn scale_warning(mesh: &TriMesh, options: &SpectrumOptions) -> Option<String> {
-    let Operator::Family { tau } = options.operator else {
-        return None;
-    };
+    let tau = options.weight_by_scale()?;
     let area: f64 = (0..mesh.face_count()).map(|t| mesh.face_area(t)).sum();
     let far = !(1.0 / UNIT_AREA_RANGE..=UNIT_AREA_RANGE).contains(&area);
-    (far && options.normalization == Normalization::None && tau > 0.0 && tau < 1.0).then(|| {
+    far.then(|| {
         format!(
             "the family weighs D_N and the Laplacian by the mesh's scale: at its area {area:.1e} \
              (not normalised) the weight {tau} of D_N acts as {:.2e} does on the mesh scaled to \
