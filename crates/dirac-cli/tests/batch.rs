@@ -5,13 +5,21 @@
 mod support;
 
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use dirac::TriMesh;
 use dirac::spectrum::Operator;
 use serde_json::Value;
 
 use support::{bumpy_sphere, dirac, library, scratch, stderr, text, write_off};
+
+/// A fresh scratch directory `name` and, inside it, an empty folder `meshes` for the inputs.
+fn scratch_with_input(name: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(name);
+    let input = dir.join("meshes");
+    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    (dir, input)
+}
 
 /// A directory with two valid meshes and one malformed file, and the valid meshes.
 fn inputs(dir: &Path) -> Vec<(String, TriMesh)> {
@@ -68,9 +76,7 @@ fn pairs(list: &[(&str, &str)]) -> Vec<(String, String)> {
 
 #[test]
 fn batch_computes_reports_failures_and_resumes() {
-    let dir = scratch("batch_dir");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_dir");
     let meshes = inputs(&input);
     let out = dir.join("out");
     let k = 5;
@@ -189,9 +195,7 @@ fn batch_computes_reports_failures_and_resumes() {
 /// warned of at the end.
 #[test]
 fn sliver_faces_are_counted_in_the_summary() {
-    let dir = scratch("batch_slivers");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_slivers");
     fs::write(
         input.join("flap.obj"),
         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 -1e-12 0\nf 1 2 3\nf 1 3 4\nf 2 1 5\n",
@@ -231,9 +235,7 @@ fn sliver_faces_are_counted_in_the_summary() {
 
 #[test]
 fn a_mesh_past_the_time_limit_is_stopped_and_computed_again_by_a_rerun() {
-    let dir = scratch("batch_time_limit");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_time_limit");
     write_off(&bumpy_sphere(2, 1, 0.2), input.join("sphere.off"));
     let out = dir.join("out");
     let run = |extra: &[&str]| {
@@ -321,9 +323,7 @@ fn a_result_is_reused_only_for_the_same_file_contents_and_settings() {
 
 #[test]
 fn a_count_beyond_every_mesh_fails_each_mesh_and_writes_the_summary() {
-    let dir = scratch("batch_huge_k");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_huge_k");
     write_off(&bumpy_sphere(1, 1, 0.1), input.join("x.off"));
     let out = dir.join("out");
     let output = dirac(&[
@@ -341,9 +341,7 @@ fn a_count_beyond_every_mesh_fails_each_mesh_and_writes_the_summary() {
 
 #[test]
 fn list_input_with_comments_and_relative_paths() {
-    let dir = scratch("batch_list");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_list");
     inputs(&input);
     let list = dir.join("list.txt");
     fs::write(
@@ -393,9 +391,7 @@ fn inputs_that_cannot_run_exit_1() {
 /// warned of once (its solves run quiet); normalised, or another operator, it is not.
 #[test]
 fn a_batch_of_the_family_without_normalisation_is_warned_of() {
-    let dir = scratch("batch_family_scale");
-    let input = dir.join("meshes");
-    fs::create_dir_all(&input).expect("the temporary directory is writable");
+    let (dir, input) = scratch_with_input("batch_family_scale");
     write_off(&bumpy_sphere(1, 3, 0.05), input.join("a.off"));
     let run = |extra: &[&str]| {
         let out = dir.join(format!("out{}", extra.len()));

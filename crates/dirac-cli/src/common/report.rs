@@ -128,6 +128,7 @@ pub struct RunSettings {
 impl RunSettings {
     /// The settings of a run with the command-line options `solve`, translated to `options`.
     pub fn new(solve: &SolveArgs, options: &SpectrumOptions) -> Self {
+        let preparation = &solve.problem.preparation;
         Self {
             operator: solve.problem.operator.name().to_string(),
             tau: solve.problem.operator.tau(),
@@ -146,15 +147,10 @@ impl RunSettings {
             tolerance: options.tolerance,
             seed: options.seed,
             max_restarts: options.max_restarts,
-            repair: solve.problem.preparation.repair.then(|| {
-                solve
-                    .problem
-                    .preparation
-                    .options
-                    .repair_options()
-                    .merge_distance
-            }),
-            component: solve.problem.preparation.options.component.to_string(),
+            repair: preparation
+                .repair
+                .then(|| preparation.options.repair_options().merge_distance),
+            component: preparation.options.component.to_string(),
             relative_to: None,
         }
     }
